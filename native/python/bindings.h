@@ -1,0 +1,10 @@
+// meshmark: pybind11 bindings, one bind_* function per thesis area, called from module.cpp.
+#pragma once
+#include <pybind11/pybind11.h>
+
+namespace meshmark::python {
+
+void bind_mesh(pybind11::module_& m);  // validation, topology, geometry, PCA, info (bind_mesh.cpp)
+void bind_io(pybind11::module_& m);    // read_mesh / write_mesh (bind_io.cpp)
+
+}  // namespace meshmark::python

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Idempotent setup shared by ./demo.sh and ./test.sh (sourced, not run):
+#   1. Debian packages: compiler, CMake, Eigen, CGAL (+GMP/MPFR/Boost), GoogleTest, and the X/GL
+#      libraries that the bpy wheel loads (installed only when missing, or always when CI=true);
+#   2. a virtual environment in .venv with the build tools;
+#   3. meshmark built in Release mode into it (rebuilt only when a source file changed; the CMake
+#      build tree build/py is kept, so rebuilds are incremental) and, with MESHMARK_WITH_TESTS=1,
+#      the C++ tests, the test extras and the bpy wheel.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+
+APT_PACKAGES=(build-essential cmake ninja-build git libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev
+  libboost-dev libgtest-dev python3-venv python3-dev
+  libx11-6 libxrender1 libxxf86vm1 libxfixes3 libxi6 libxkbcommon0 libsm6 libice6 libgl1 libegl1
+  libxext6 libgomp1 libwayland-client0 libdecor-0-0)
+
+say() { printf '\033[1mmeshmark:\033[0m %s\n' "$*"; }
+
+missing=()
+for p in "${APT_PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ] || [ "${CI:-}" = "true" ]; then
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  say "installing Debian packages: ${missing[*]:-(CI: refreshing all)}"
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${APT_PACKAGES[@]}" >/dev/null
+fi
+
+PY="${MESHMARK_PYTHON:-python3}"
+if [ ! -x .venv/bin/python ]; then
+  say "creating .venv with $($PY --version)"
+  "$PY" -m venv .venv
+fi
+VPY="$ROOT/.venv/bin/python"
+export PIP_DISABLE_PIP_VERSION_CHECK=1
+
+stamp=.venv/.meshmark-build-stamp
+want_tests="${MESHMARK_WITH_TESTS:-0}"
+need_build=0
+if [ ! -f "$stamp" ]; then
+  need_build=1
+elif [ "$want_tests" = 1 ] && [ "$(cat "$stamp")" != "tests=1" ]; then
+  need_build=1  # the C++ tests were not built yet
+elif [ -n "$(find native src CMakeLists.txt pyproject.toml -newer "$stamp" -type f 2>/dev/null | head -1)" ]; then
+  need_build=1  # a source file changed
+fi
+"$VPY" -c "import meshmark._core" 2>/dev/null || need_build=1
+
+if [ "$need_build" = 1 ]; then
+  say "building meshmark (Release) into .venv"
+  "$VPY" -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" "numpy>=1.23,<2" click
+  extras=""
+  [ "$want_tests" = 1 ] && extras="[test]"
+  "$VPY" -m pip install -q --no-build-isolation -Cbuild-dir=build/py \
+    -Ccmake.define.MESHMARK_BUILD_TESTS="$([ "$want_tests" = 1 ] && echo ON || echo OFF)" ".$extras"
+  echo "tests=$want_tests" > "$stamp"
+fi
+
+if [ "$want_tests" = 1 ] && ! "$VPY" -c "import bpy" 2>/dev/null; then
+  say "installing the bpy wheel (Blender as a Python module; about 400 MB the first time)"
+  "$VPY" -m pip install -q "bpy==5.0.1"
+fi
