@@ -291,7 +291,15 @@ void finish(const std::string& path, MeshFile& out, bool drop_collapsed) {
   Polygons& P = out.P;
   const Offset m = P.n_faces();
   out.n_file_faces = m;
-  if (drop_collapsed) {
+  bool any_repeat = false;  // fast path: most files have no face that repeats a vertex
+  for (Offset f = 0; f < m && !any_repeat; ++f)
+    for (Offset a = P.offsets[f]; a < P.offsets[f + 1] && !any_repeat; ++a)
+      for (Offset d = a + 1; d < P.offsets[f + 1]; ++d)
+        if (P.indices[a] == P.indices[d]) {
+          any_repeat = true;
+          break;
+        }
+  if (drop_collapsed && any_repeat) {
     VectorXi idx(P.indices.size());
     VectorXo off(m + 1);
     off[0] = 0;
