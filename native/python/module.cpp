@@ -10,4 +10,5 @@ PYBIND11_MODULE(_core, m) {
   py::register_exception<meshmark::MeshError>(m, "MeshError", PyExc_ValueError);
   meshmark::python::bind_mesh(m);
   meshmark::python::bind_io(m);
+  meshmark::python::bind_laplacian(m);
 }

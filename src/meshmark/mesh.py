@@ -177,11 +177,14 @@ class Mesh:
 
 
 def as_mesh(V, F=None) -> Mesh:
-    """Return a :class:`Mesh` from a Mesh (``F`` must be None) or from ``(V, F)`` arrays."""
+    """Return a :class:`Mesh` from a Mesh (``F`` must be None), from ``(V, F)`` arrays, or from
+    new positions ``V`` on the faces of a Mesh ``F``."""
     if isinstance(V, Mesh):
         if F is not None:
             raise MeshError("pass either a Mesh or (V, F), not both")
         return V
     if F is None:
         raise MeshError("faces F are required when V is an array")
+    if isinstance(F, Mesh):  # new positions on an existing mesh's faces
+        return Mesh.from_polygons(V, F.face_indices, F.face_offsets)
     return Mesh(V, F)

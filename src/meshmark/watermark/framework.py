@@ -1,0 +1,196 @@
+"""Embed, extract and detect for any watermark method.
+
+A method (``meshmark.watermark.laplacian.METHOD`` and, later, the radial methods) provides::
+
+    resolve(mesh, params) -> dict                  # parameters with defaults filled in
+    carriers(mesh, params) -> (ids, side_info)     # the carriers the mesh offers (capacity = len(ids))
+    embed(mesh, params, side_info, ids, bits) -> (V, side_info, stats)
+    extract(mesh, params, side_info, ids) -> (bits, soft)
+
+and this module does the rest, identically for every method:
+
+1. frame the payload (:mod:`.payload`: length, data, CRC-8) and repeat it over all carriers;
+2. whiten the coded bits and assign them to carriers in a key-dependent order (:mod:`.keys`);
+3. embed, then re-extract and re-embed the carriers that did not take (at most 4 rounds);
+4. write the keyfile (:mod:`.keyfile`).
+
+Extraction un-permutes and un-whitens with the keyfile's key (or a key given), compares the raw bits
+with the expected ones (matches, NC, CDR), computes the false-alarm probability P(X >= matches),
+X ~ Bin(n, 1/2), and decides ``detected = p_false_alarm < 1e-6`` (:data:`DETECTION_THRESHOLD`): a
+random or unmarked mesh, or a wrong key, is called marked with probability below one in a million.
+The message is decoded by majority vote and accepted only if its length and CRC agree.
+"""
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import __version__
+from .._core import MeshError
+from ..mesh import Mesh, as_mesh
+from ..metrics import cdr as _cdr, false_alarm_probability, normalized_correlation
+from . import keys as _keys
+from .keyfile import Keyfile, load_keyfile
+from .payload import OVERHEAD_BITS, Payload, decode, repeat_to
+
+DETECTION_THRESHOLD = 1e-6
+MIN_CARRIERS = 8
+MAX_ROUNDS = 4
+
+METHODS: dict = {}
+
+
+def register(method) -> None:
+    METHODS[method.name] = method
+
+
+def _method(name: str):
+    if name not in METHODS:
+        raise MeshError(f"unknown watermark method {name!r} (known: {', '.join(METHODS)})")
+    return METHODS[name]
+
+
+@dataclass
+class EmbedResult:
+    """``V``: (n, 3) float64 marked vertices; ``keyfile``: what extract needs; iterable as (V, keyfile)."""
+    V: np.ndarray
+    keyfile: Keyfile
+    capacity: int
+    stats: dict = field(default_factory=dict)
+
+    def __iter__(self):
+        return iter((self.V, self.keyfile))
+
+    def to_dict(self) -> dict:
+        return {"method": self.keyfile.method, "capacity": self.capacity, "n_coded": self.keyfile.coding["n_coded"],
+                "frame_bits": self.keyfile.coding["frame_bits"], "payload_bits": self.keyfile.payload["n_bits"],
+                "params": self.keyfile.params, **self.stats}
+
+
+@dataclass
+class ExtractResult:
+    detected: bool
+    nc: float
+    cdr: float
+    matches: int
+    n_bits: int
+    p_false_alarm: float
+    message: object          # str (text payload), bit string, or None when not recovered
+    message_ok: bool
+    reason: str = ""         # why the message was not recovered
+    warnings: list = field(default_factory=list)
+    bits: np.ndarray = None  # (n_coded,) extracted coded bits (0/1), after un-whitening
+
+    def to_dict(self) -> dict:
+        return {"detected": self.detected, "nc": self.nc, "cdr": self.cdr, "matches": self.matches,
+                "bits": self.n_bits, "p_false_alarm": self.p_false_alarm, "message": self.message,
+                "message_ok": self.message_ok, "reason": self.reason, "warnings": list(self.warnings)}
+
+
+def capacity(V, F=None, method: str = "laplacian", **params) -> int:
+    """Number of carrier bits the mesh offers to ``method`` with these parameters (before framing)."""
+    mesh = as_mesh(V, F)
+    m = _method(method)
+    p = m.resolve(mesh, params)
+    ids, _ = m.carriers(mesh, p)
+    return int(len(ids))
+
+
+def _expected(payload: Payload, key: str, method: str, n: int):
+    coded = repeat_to(payload.frame(), n)
+    white = _keys.whitening(key, method, n)
+    order = _keys.permutation(key, method, n)
+    return coded, white, order
+
+
+def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress=None, **params) -> EmbedResult:
+    """Embed ``payload`` (text, bit string or Payload) under ``key`` with ``method``.
+
+    Returns an :class:`EmbedResult` with the marked vertices and the keyfile; the input arrays are
+    never modified. Raises MeshError (nothing changed) when the mesh is invalid, offers fewer than 8
+    carriers, or the framed message does not fit (the message states the capacity in bits).
+    ``progress(fraction, text)`` is called as the work advances, if given.
+    """
+    report = progress or (lambda f, t: None)
+    mesh = as_mesh(V, F)
+    m = _method(method)
+    key = _keys.check_key(key)
+    pl = Payload.coerce(payload)
+    p = m.resolve(mesh, params)
+    report(0.05, "finding carriers")
+    ids, side = m.carriers(mesh, p)
+    cap = int(len(ids))
+    if cap < MIN_CARRIERS:
+        raise MeshError(f"the mesh offers only {cap} carrier bits to the {method} method with {m.describe(p)}; "
+                        f"at least {MIN_CARRIERS} are needed")
+    if pl.frame_bits > cap:
+        raise MeshError(f"the message needs {pl.frame_bits} bits ({pl.data.size} data + {OVERHEAD_BITS} framing) but "
+                        f"the mesh can carry {cap} bits with the {method} method ({m.describe(p)})")
+    coded, white, order = _expected(pl, key, method, cap)
+    channel = coded ^ white
+    carriers = np.asarray(ids)[order]  # carrier of coded bit i
+    Vm = mesh.V
+    stats = {}
+    todo = np.arange(cap)
+    for rnd in range(MAX_ROUNDS):
+        report(0.1 + 0.8 * rnd / MAX_ROUNDS, f"embedding round {rnd + 1}")
+        Vm, side, st = m.embed(mesh.with_vertices(Vm) if rnd else mesh, p, side, carriers[todo], channel[todo])
+        for k, v in st.items():
+            stats[k] = stats.get(k, 0) + v if isinstance(v, (int, float)) and k.startswith("n_") else v
+        got, _ = m.extract(mesh.with_vertices(Vm), p, side, carriers)
+        todo = np.flatnonzero(got != channel)
+        if todo.size == 0:
+            break
+    stats["rounds"] = rnd + 1
+    stats["unverified_bits"] = int(todo.size)
+    report(0.95, "writing keyfile")
+    bits = pl.bitstring()
+    kf = Keyfile(method=method, params=p, key=key,
+                 payload={"kind": pl.kind, "n_bits": pl.data.size, "bits": bits,
+                          "sha256": hashlib.sha256(bits.encode()).hexdigest()},
+                 coding={"scheme": "repeat", "frame_bits": pl.frame_bits, "n_coded": cap},
+                 side_info={**side, "carriers": [int(c) for c in ids]},
+                 mesh={"n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces,
+                       "bbox_diagonal": float(np.linalg.norm(Vm.max(0) - Vm.min(0)))},
+                 meshmark_version=__version__)
+    report(1.0, "done")
+    return EmbedResult(V=Vm, keyfile=kf, capacity=cap, stats=stats)
+
+
+def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
+    """Extract and detect the watermark described by ``keyfile`` (a path or Keyfile).
+
+    ``key`` overrides the keyfile's key (to test a key). The mesh may differ from the marked one
+    (attacked, deformed, re-exported): extraction is blind and never needs the original mesh.
+    """
+    report = progress or (lambda f, t: None)
+    mesh = as_mesh(V, F)
+    if keyfile is None:
+        raise MeshError("a keyfile is required to extract")
+    kf = load_keyfile(keyfile)
+    m = _method(kf.method)
+    key = _keys.check_key(kf.key if key is None else key)
+    warnings = []
+    if mesh.n_vertices != kf.mesh.get("n_vertices"):
+        warnings.append(f"the mesh has {mesh.n_vertices} vertices but the keyfile was made for "
+                        f"{kf.mesh.get('n_vertices')} (simplified, cropped or remeshed?); extracting blindly")
+    n = int(kf.coding["n_coded"])
+    ids = np.asarray(kf.side_info["carriers"], dtype=np.int64)
+    if ids.size != n:
+        raise MeshError(f"keyfile: {ids.size} carriers listed but {n} coded bits")
+    pl = Payload.from_bits(kf.payload["bits"])
+    pl = Payload(kf.payload["kind"], pl.data)
+    coded, white, order = _expected(pl, key, kf.method, n)
+    report(0.2, "extracting")
+    got, soft = m.extract(mesh, kf.params, kf.side_info, ids[order])
+    bits = (np.asarray(got, np.uint8) ^ white).astype(np.uint8)
+    matches = int((bits == coded).sum())
+    p_fa = false_alarm_probability(matches, n)
+    found, _, reason = decode(bits, np.asarray(soft, float), int(kf.coding["frame_bits"]), kf.payload["kind"])
+    message = found.message() if found is not None else None
+    report(1.0, "done")
+    return ExtractResult(detected=bool(p_fa < DETECTION_THRESHOLD), nc=normalized_correlation(coded, bits),
+                         cdr=_cdr(coded, bits), matches=matches, n_bits=n, p_false_alarm=p_fa,
+                         message=message, message_ok=found is not None, reason=reason, warnings=warnings, bits=bits)

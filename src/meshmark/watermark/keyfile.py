@@ -1,0 +1,105 @@
+"""The keyfile: a versioned JSON file holding everything ``extract`` needs.
+
+It is written by ``embed`` and kept by the owner; the marked mesh can be shared without it. Fields:
+
+``format`` ("meshmark-keyfile"), ``version`` (1), ``method``, ``params`` (the method's parameters
+as used), ``key``, ``payload`` (``kind``, ``n_bits``, ``bits`` as a 0/1 string, ``sha256`` of that
+string), ``coding`` (``scheme`` "repeat", ``frame_bits``, ``n_coded``), ``side_info`` (method data
+such as bin ranges and the carrier list), ``mesh`` (vertex/face counts and bounding-box diagonal of
+the marked mesh), ``meshmark_version`` and ``created``.
+"""
+from __future__ import annotations
+
+import datetime
+import hashlib
+import json
+import os
+from dataclasses import dataclass, field
+
+from .._core import MeshError
+
+FORMAT = "meshmark-keyfile"
+VERSION = 1
+
+
+@dataclass
+class Keyfile:
+    method: str
+    params: dict
+    key: str
+    payload: dict
+    coding: dict
+    side_info: dict
+    mesh: dict
+    meshmark_version: str = ""
+    created: str = field(default_factory=lambda: datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"))
+
+    def to_dict(self) -> dict:
+        return {"format": FORMAT, "version": VERSION, "method": self.method, "params": self.params,
+                "key": self.key, "payload": self.payload, "coding": self.coding, "side_info": self.side_info,
+                "mesh": self.mesh, "meshmark_version": self.meshmark_version, "created": self.created}
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=1)
+
+    @classmethod
+    def from_dict(cls, d, source: str = "keyfile") -> "Keyfile":
+        def bad(msg):
+            raise MeshError(f"{source}: {msg}")
+        if not isinstance(d, dict):
+            bad("not a JSON object")
+        if d.get("format") != FORMAT:
+            bad(f"not a meshmark keyfile (format is {d.get('format')!r}, expected {FORMAT!r})")
+        if d.get("version") != VERSION:
+            bad(f"keyfile version {d.get('version')!r} is not supported (this meshmark reads version {VERSION})")
+        from .framework import METHODS
+        if d.get("method") not in METHODS:
+            bad(f"unknown method {d.get('method')!r} (known: {', '.join(METHODS)})")
+        for k, t in [("params", dict), ("key", str), ("payload", dict), ("coding", dict), ("side_info", dict), ("mesh", dict)]:
+            if not isinstance(d.get(k), t):
+                bad(f"field {k!r} is missing or not a {t.__name__}")
+        p = d["payload"]
+        bits = p.get("bits")
+        if p.get("kind") not in ("text", "bits") or not isinstance(bits, str) or set(bits) - {"0", "1"} or not bits:
+            bad("payload must have kind 'text' or 'bits' and a non-empty 0/1 bit string")
+        if p.get("n_bits") != len(bits):
+            bad(f"payload n_bits ({p.get('n_bits')}) does not match its bit string ({len(bits)} bits)")
+        if p.get("sha256") != hashlib.sha256(bits.encode()).hexdigest():
+            bad("payload digest does not match its bits (the keyfile was edited or corrupted)")
+        c = d["coding"]
+        if c.get("scheme") != "repeat" or not isinstance(c.get("frame_bits"), int) or not isinstance(c.get("n_coded"), int):
+            bad("coding must have scheme 'repeat' and integer frame_bits and n_coded")
+        if c["frame_bits"] != len(bits) + 16 or c["n_coded"] < c["frame_bits"]:
+            bad("coding sizes are inconsistent with the payload")
+        return cls(method=d["method"], params=d["params"], key=d["key"], payload=p, coding=c,
+                   side_info=d["side_info"], mesh=d["mesh"], meshmark_version=str(d.get("meshmark_version", "")),
+                   created=str(d.get("created", "")))
+
+
+def save_keyfile(keyfile: Keyfile, path: str | os.PathLike) -> None:
+    """Write the keyfile as JSON (atomically: a temporary file then a rename)."""
+    path = os.fspath(path)
+    tmp = path + ".tmp"
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(keyfile.to_json())
+        os.replace(tmp, path)
+    except OSError as exc:
+        raise MeshError(f"cannot write keyfile '{path}': {exc.strerror or exc}") from None
+
+
+def load_keyfile(path_or_keyfile) -> Keyfile:
+    """Read and validate a keyfile (a path, or a Keyfile which is returned as is)."""
+    if isinstance(path_or_keyfile, Keyfile):
+        return path_or_keyfile
+    path = os.fspath(path_or_keyfile)
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except OSError as exc:
+        raise MeshError(f"cannot read keyfile '{path}': {exc.strerror or exc}") from None
+    try:
+        d = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise MeshError(f"keyfile '{path}' is not valid JSON (line {exc.lineno}: {exc.msg}); it may be corrupt") from None
+    return Keyfile.from_dict(d, source=f"keyfile '{path}'")

@@ -1,0 +1,48 @@
+"""Keys: a secret string decides which carrier takes which coded bit, and flips (whitens) the bits.
+
+Everything is derived with SHAKE-256 (hashlib), domain-separated by method, so keyfiles stay valid
+across numpy versions and platforms:
+
+* the carrier order: ``argsort`` of 64-bit words from ``SHAKE256("meshmark/v1/<method>/perm/" + key)``;
+* the whitening bits: ``SHAKE256("meshmark/v1/<method>/white/" + key)``.
+
+Extraction with a wrong key un-permutes and un-whitens with the wrong sequences, so the recovered
+bits agree with the expected ones only by chance (probability 1/2 each).
+"""
+from __future__ import annotations
+
+import hashlib
+import secrets
+
+import numpy as np
+
+from .._core import MeshError
+
+
+def check_key(key) -> str:
+    if isinstance(key, int):
+        key = str(key)
+    if not isinstance(key, str) or not key:
+        raise MeshError("the key must be a non-empty string (or an integer seed)")
+    return key
+
+
+def random_key() -> str:
+    """A fresh 128-bit key as 32 hex digits."""
+    return secrets.token_hex(16)
+
+
+def _stream(label: str, method: str, key: str, nbytes: int) -> bytes:
+    return hashlib.shake_256(f"meshmark/v1/{method}/{label}/".encode() + key.encode("utf-8")).digest(nbytes)
+
+
+def permutation(key: str, method: str, n: int) -> np.ndarray:
+    """A key-dependent permutation of range(n)."""
+    words = np.frombuffer(_stream("perm", method, key, 8 * max(n, 1)), dtype="<u8")[:n]
+    return np.argsort(words, kind="stable")
+
+
+def whitening(key: str, method: str, n: int) -> np.ndarray:
+    """n key-dependent pseudo-random bits (0/1)."""
+    raw = np.frombuffer(_stream("white", method, key, (n + 7) // 8 or 1), np.uint8)
+    return np.unpackbits(raw)[:n]
