@@ -11,7 +11,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 
 APT_PACKAGES=(build-essential cmake ninja-build git libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev
-  libboost-dev libgtest-dev libsuitesparse-dev python3-venv python3-dev
+  libboost-dev libgtest-dev libsuitesparse-dev libopenblas0-pthread python3-venv python3-dev
   libx11-6 libxrender1 libxxf86vm1 libxfixes3 libxi6 libxkbcommon0 libsm6 libice6 libgl1 libegl1
   libxext6 libgomp1 libwayland-client0 libdecor-0-0)
 

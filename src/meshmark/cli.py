@@ -76,5 +76,125 @@ def info(mesh, as_json):
     _emit(d, as_json, _format_info(path, d))
 
 
+# --- watermarking ---------------------------------------------------------------------------
+_METHOD_CHOICES = ["laplacian"]
+
+
+def _method_options(f):
+    """Parameters shared by embed and capacity (names as in the Python API; thesis defaults)."""
+    f = click.option("--thesis-exact", is_flag=True, default=False,
+                     help="Run the thesis algorithm to the letter (no robustness fixes).")(f)
+    f = click.option("--eps", type=float, default=None, help="Regularisation of eq. 7.1.4 (default 1e-5).")(f)
+    f = click.option("--n-robust", "n_robust", type=int, default=None, help="eq. 7.2.16 margin divisor (default 5).")(f)
+    f = click.option("--n-thr", "n_thr", type=int, default=None, help="Minimum elements in a valid bin pair (default 46).")(f)
+    f = click.option("--K", "K", type=int, default=None, help="Number of histogram bins (default ceil(N/70)).")(f)
+    f = click.option("--method", type=click.Choice(_METHOD_CHOICES), default="laplacian", show_default=True)(f)
+    return f
+
+
+def _params(K, n_thr, n_robust, eps, thesis_exact):
+    p = {"K": K, "n_thr": n_thr, "n_robust": n_robust, "eps": eps}
+    if thesis_exact:
+        p["thesis_exact"] = True
+    return {k: v for k, v in p.items() if v is not None}
+
+
+def _progress_bar(as_json: bool):
+    """A click progress bar on stderr for interactive use (silent with --json)."""
+    if as_json or not sys.stderr.isatty():
+        return None, None
+    bar = click.progressbar(length=100, label="meshmark", file=sys.stderr)
+    bar.__enter__()
+    state = {"done": 0}
+
+    def report(fraction, text):
+        step = int(100 * fraction) - state["done"]
+        if step > 0:
+            bar.update(step)
+            state["done"] += step
+    return report, bar
+
+
+@main.command()
+@click.argument("inp", metavar="IN")
+@click.argument("out", metavar="OUT")
+@_method_options
+@click.option("--message", help="Text message to hide (UTF-8, at most 31 bytes).")
+@click.option("--bits", help="Raw bit string to hide, e.g. 0110.")
+@click.option("--key", required=True, help="Secret key (keep it; it is also stored in the keyfile).")
+@click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Where to write the keyfile (JSON).")
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+def embed(inp, out, method, K, n_thr, n_robust, eps, thesis_exact, message, bits, key, keyfile, as_json):
+    """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile."""
+    from . import read_mesh, write_mesh
+    from .watermark import embed as wm_embed, save_keyfile
+    from .watermark.payload import Payload
+
+    if (message is None) == (bits is None):
+        raise MeshError("give exactly one of --message TEXT or --bits 0110...")
+    payload = Payload.from_text(message) if message is not None else Payload.from_bits(bits)
+    mesh, fmt = read_mesh(inp, return_info=True)
+    report, bar = _progress_bar(as_json)
+    try:
+        res = wm_embed(mesh, payload=payload, key=key, method=method, progress=report,
+                       **_params(K, n_thr, n_robust, eps, thesis_exact))
+    finally:
+        if bar is not None:
+            bar.__exit__(None, None, None)
+    write_mesh(out, res.V, mesh, float32=bool(fmt["float32"]) and out.lower().endswith(".ply"))
+    save_keyfile(res.keyfile, keyfile)
+    d = {"input": inp, "output": out, "keyfile": keyfile, **res.to_dict()}
+    text = (f"embedded {payload.data.size} payload bits ({res.keyfile.coding['frame_bits']} framed, repeated over "
+            f"{res.capacity} carriers) with the {method} method into {out}\nkeyfile: {keyfile} (keep it private)")
+    _emit(d, as_json, text)
+
+
+@main.command()
+@click.argument("inp", metavar="IN")
+@click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Keyfile written by embed.")
+@click.option("--key", default=None, help="Use this key instead of the keyfile's.")
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+def extract(inp, keyfile, key, as_json):
+    """Extract and detect the watermark of --keyfile in IN (blind: the original is not needed).
+
+    Exit status: 0 watermark detected, 1 not detected, 2 error.
+    """
+    from . import read_mesh
+    from .watermark import extract as wm_extract
+
+    mesh = read_mesh(inp)
+    res = wm_extract(mesh, keyfile=keyfile, key=key)
+    d = {"input": inp, **res.to_dict()}
+    lines = [f"watermark {'DETECTED' if res.detected else 'not detected'} in {inp}",
+             f"bits matched {res.matches}/{res.n_bits}  NC {res.nc:.3f}  CDR {res.cdr:.3f}  "
+             f"P(false alarm) {res.p_false_alarm:.3g}",
+             f"message: {res.message!r}" if res.message_ok else f"message not recovered ({res.reason})"]
+    lines += [f"warning: {w}" for w in res.warnings]
+    _emit(d, as_json, "\n".join(lines))
+    sys.exit(0 if res.detected else 1)
+
+
+@main.command()
+@click.argument("inp", metavar="IN")
+@_method_options
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+def capacity(inp, method, K, n_thr, n_robust, eps, thesis_exact, as_json):
+    """How many carrier bits IN offers to a method, and how long a message fits."""
+    from . import read_mesh
+    from .watermark import METHODS
+    from .watermark.payload import OVERHEAD_BITS
+
+    mesh = read_mesh(inp)
+    m = METHODS[method]
+    p = m.resolve(mesh, _params(K, n_thr, n_robust, eps, thesis_exact))
+    ids, _ = m.carriers(mesh, p)
+    cap = int(len(ids))
+    d = {"input": inp, "method": method, "params": p, "capacity": cap,
+         "max_message_bits": max(0, min(cap - OVERHEAD_BITS, 255)),
+         "max_text_bytes": max(0, min(cap - OVERHEAD_BITS, 255) // 8)}
+    _emit(d, as_json, f"{inp}: {cap} carrier bits with the {method} method ({m.describe(p)}); "
+                      f"a message of up to {d['max_message_bits']} bits ({d['max_text_bytes']} text bytes) fits")
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()

@@ -1,0 +1,260 @@
+"""Laplacian-coordinate watermark (thesis ch. 7) and the watermark framework."""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import meshmark
+from meshmark import MeshError, _core
+from meshmark.shapes import cylinder
+from meshmark.watermark import laplacian as L
+from meshmark.watermark import load_keyfile, save_keyfile
+from meshmark.watermark.payload import Payload
+from conftest import shared_mesh
+
+DIAG = lambda V: float(np.linalg.norm(V.max(0) - V.min(0)))
+
+
+def random_rotation(rng):
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q *= np.sign(np.diag(r))
+    if np.linalg.det(q) < 0:
+        q[:, 0] *= -1
+    return q
+
+
+@pytest.fixture(scope="module")
+def marked_bunny():
+    m = meshmark.read_mesh(shared_mesh("classic/bunny.obj"))
+    return m, L.embed(m, payload="(c)ACME", key="s3cret")
+
+
+# --- eqs. 7.1.2-7.1.7 ------------------------------------------------------------------------
+def test_kirchhoff_matrix_and_laplacian_match_scipy(bunny):
+    E, _ = meshmark.unique_edges(bunny)
+    n = bunny.n_vertices
+    r, c, v = _core.kirchhoff_matrix(n, E, 1e-5)
+    M = sp.coo_matrix((v, (r, c)), shape=(n, n)).tocsr()
+    A = sp.coo_matrix((np.ones(len(E)), (E[:, 0], E[:, 1])), shape=(n, n))
+    A = (A + A.T).tocsr()
+    deg = np.asarray(A.sum(1)).ravel()
+    ref = sp.diags(deg - 1e-5) - A  # eqs. 7.1.3, 7.1.4
+    assert abs(M - ref).max() == 0
+    Lc = _core.laplacian_coordinates(bunny.V, E, 1e-5)
+    np.testing.assert_allclose(Lc, ref @ bunny.V, rtol=0, atol=1e-15)
+    d = L.laplacian_lengths(bunny)  # eps = 0: pure Kirchhoff, translation invariant
+    np.testing.assert_allclose(d, np.linalg.norm((sp.diags(deg) - A) @ bunny.V, axis=1), atol=1e-15)
+    np.testing.assert_allclose(L.laplacian_lengths(bunny.V + 100.0, bunny), d, atol=1e-12)
+
+
+def test_histogram_bins_follow_eq_7_1_6():
+    d = np.array([0.0, 0.1, 0.25, 0.5, 0.99, 1.0, 2.0, 0.3])
+    mask = np.array([1, 1, 1, 1, 1, 1, 1, 0], np.uint8)
+    bins, counts = _core.laplacian_histogram(d, 4, 0.0, 1.0, mask)
+    # delta = 0.25; 0.25 starts B2; d_max = 1.0 belongs to the last bin; 2.0 is outside; masked -> -1
+    assert bins.tolist() == [0, 0, 1, 2, 3, 3, -1, -1]
+    assert counts.tolist() == [2, 1, 1, 2]
+    with pytest.raises(MeshError, match="at least 4"):
+        _core.laplacian_histogram(d, 3, 0.0, 1.0, mask)
+
+
+# --- capacity (Table 7.1) --------------------------------------------------------------------
+def test_bunny_capacity_with_thesis_defaults(bunny):
+    p = L.METHOD.resolve(bunny, {})
+    assert p["K"] == 498  # = Table 7.1 (N = 34,834 referenced vertices; thesis 34,835)
+    assert (p["n_thr"], p["n_robust"], p["eps"]) == (46, 5, 1e-5)
+    assert L.capacity(bunny) == 73  # thesis: 21 on its own Bunny file; see docs/laplacian.md
+    assert L.capacity(bunny, thesis_exact=True) == 73
+
+
+# --- embedding (eqs. 7.2.12-7.2.19) ----------------------------------------------------------
+def test_thesis_exact_moves_follow_eq_7_2_16(bunny):
+    p = L.METHOD.resolve(bunny, {"thesis_exact": True})
+    ids, side = L.METHOD.carriers(bunny, p)
+    E, bins, counts, _ = L.METHOD._histogram(bunny, p, side)
+    rng = np.random.default_rng(3)
+    bits = rng.integers(0, 2, len(ids))
+    V, side2, st = L.METHOD.embed(bunny, p, side, ids, bits)
+    _, _, after, _ = L.METHOD._histogram(bunny.with_vertices(V), p, side2)
+    for j, b in zip(ids, bits):
+        c1, c2 = counts[2 * j + 1], counts[2 * j + 2]
+        f = c1 + c2
+        a1, a2 = after[2 * j + 1], after[2 * j + 2]
+        assert a1 + a2 == f  # eq. 7.3.20: elements stay inside their pair
+        ok_before = c1 >= c2 if b else c1 < c2
+        if ok_before:  # Case 1: nothing changes
+            assert (a1, a2) == (c1, c2)
+        else:  # Case 2: the loser keeps floor((f-1)/2) - floor((f-1)/n_robust) elements
+            loser = a2 if b else a1
+            assert loser == max((f - 1) // 2 - (f - 1) // 5, 0)
+    got, _ = L.METHOD.extract(bunny.with_vertices(V), p, side2, ids)
+    np.testing.assert_array_equal(got, bits)
+    # Blind extraction of §7.3 (own d_min/d_max, f >= n_thr) reads the same bits in order.
+    np.testing.assert_array_equal(L.extract_blind(V, bunny), bits)
+
+
+def test_no_attack_and_storage_similarity_permutation(marked_bunny, tmp_path):
+    m, r = marked_bunny
+    rng = np.random.default_rng(7)
+    Vm = r.V
+    x = L.extract(Vm, m, keyfile=r.keyfile)
+    assert x.detected and x.cdr == 1.0 and x.message == "(c)ACME" and x.p_false_alarm < 1e-20
+    attacked = {"float32": Vm.astype(np.float32).astype(float), "scale 1e-3": Vm * 1e-3, "scale 1e3": Vm * 1e3}
+    R = random_rotation(rng)
+    attacked["rotation+translation"] = Vm @ R.T + rng.normal(size=3) * 50
+    for name, V in attacked.items():
+        x = L.extract(V, m, keyfile=r.keyfile)
+        assert (x.cdr, x.message) == (1.0, "(c)ACME"), name
+    meshmark.write_mesh(tmp_path / "m.obj", Vm, m, decimals=6)
+    x = L.extract(meshmark.read_mesh(tmp_path / "m.obj"), keyfile=r.keyfile)
+    assert (x.cdr, x.message) == (1.0, "(c)ACME")
+    perm = rng.permutation(m.n_vertices)
+    F = np.argsort(perm)[m.F][rng.permutation(m.n_faces)]
+    combo = ((Vm[perm] * 1000) @ R.T).astype(np.float32).astype(float)
+    x = L.extract(combo, F, keyfile=r.keyfile)
+    assert (x.cdr, x.message, x.detected) == (1.0, "(c)ACME", True)
+
+
+def test_no_drift_and_distortion(marked_bunny):
+    m, r = marked_bunny
+    diag = DIAG(m.V)
+    drift = np.linalg.norm(r.V.mean(0) - m.V.mean(0)) / diag
+    assert drift < 1e-6
+    rmse = np.sqrt(((r.V - m.V) ** 2).sum(1).mean()) / diag
+    assert 1e-6 < rmse < 2e-3
+    # The thesis' solve with M = K - eps I moves the model as a whole (docs/laplacian.md).
+    rt = L.embed(m, payload="(c)ACME", key="s3cret", thesis_exact=True)
+    assert np.linalg.norm(rt.V.mean(0) - m.V.mean(0)) / diag > 1e-4
+
+
+def test_message_longer_than_capacity_leaves_input_unchanged(bunny):
+    V0 = bunny.V.copy()
+    with pytest.raises(MeshError, match=r"needs 264 bits .* can carry 73 bits .*K=498, n_thr=46"):
+        L.embed(bunny, payload="x" * 31, key="k")
+    np.testing.assert_array_equal(bunny.V, V0)
+
+
+def test_too_few_carriers():
+    cow = meshmark.read_mesh(shared_mesh("classic/cow.obj"))
+    with pytest.raises(MeshError, match=r"offers only 6 carrier bits .*at least 8 are needed"):
+        L.embed(cow, payload="1", key="k")
+    with pytest.raises(MeshError, match="K must be at least 4"):
+        L.capacity(cow, K=2)
+    with pytest.raises(MeshError, match="unknown parameter"):
+        L.capacity(cow, bins=3)
+
+
+def test_keyfile_validation(marked_bunny, tmp_path):
+    m, r = marked_bunny
+    path = tmp_path / "k.json"
+    save_keyfile(r.keyfile, path)
+    assert load_keyfile(path).to_dict() == r.keyfile.to_dict()
+    d = json.loads(path.read_text())
+    for change, msg in [({"method": "radial-x"}, "unknown method 'radial-x'"),
+                        ({"version": 2}, "keyfile version 2 is not supported"),
+                        ({"format": "other"}, "not a meshmark keyfile")]:
+        bad = tmp_path / "bad.json"
+        bad.write_text(json.dumps({**d, **change}))
+        with pytest.raises(MeshError, match=msg):
+            L.extract(r.V, m, keyfile=bad)
+    d2 = json.loads(path.read_text())
+    d2["payload"]["bits"] = "1" + d2["payload"]["bits"][1:] if d2["payload"]["bits"][0] == "0" else "0" + d2["payload"]["bits"][1:]
+    (tmp_path / "edited.json").write_text(json.dumps(d2))
+    with pytest.raises(MeshError, match="digest does not match"):
+        load_keyfile(tmp_path / "edited.json")
+    (tmp_path / "trunc.json").write_text(path.read_text()[:200])
+    with pytest.raises(MeshError, match="not valid JSON"):
+        load_keyfile(tmp_path / "trunc.json")
+    with pytest.raises(MeshError, match="cannot read keyfile"):
+        load_keyfile(tmp_path / "missing.json")
+
+
+def test_different_vertex_count_warns(marked_bunny):
+    m, r = marked_bunny
+    keep = m.V[:, 0] < np.quantile(m.V[:, 0], 0.9)  # crop 10%
+    faces = m.F[keep[m.F].all(1)]
+    used = np.unique(faces)
+    remap = np.full(m.n_vertices, -1)
+    remap[used] = np.arange(len(used))
+    x = L.extract(r.V[used], remap[faces], keyfile=r.keyfile)
+    assert x.warnings and "keyfile was made for 35947" in x.warnings[0]
+
+
+def test_wrong_keys_are_never_detected(marked_bunny):
+    m, r = marked_bunny
+    rng = np.random.default_rng(11)
+    ncs = np.array([L.extract(r.V, m, keyfile=r.keyfile, key=f"wrong-{rng.integers(1 << 62)}").nc for _ in range(200)])
+    # NC of a wrong key is a +-1 average over 73 bits: mean ~ 0, |NC| rarely > 0.5
+    assert abs(ncs.mean()) < 0.05 and ncs.max() < 0.7
+    assert not any(L.extract(r.V, m, keyfile=r.keyfile, key=f"k{i}").detected for i in range(100))
+
+
+def test_unmarked_meshes_are_not_detected():
+    rng = np.random.default_rng(5)
+    for rel in ["classic/horse.ply", "classic/elephant.off", "classic/fandisk.obj", "corpus/vhacd_drum.off"]:
+        m = meshmark.read_mesh(shared_mesh(rel))
+        cap = L.capacity(m)
+        for _ in range(3):
+            nbits = int(rng.integers(1, min(16, cap - 16) + 1))
+            r = L.embed(m, payload=Payload.from_bits(rng.integers(0, 2, nbits)), key=os.urandom(8).hex())
+            x = L.extract(m, keyfile=r.keyfile)  # the unmarked original
+            assert not x.detected and x.p_false_alarm > 1e-6, rel
+
+
+def bend(V, deg, joint=1.0, width=0.2):
+    """Two-bone linear blend skinning about the x axis at z = joint, smoothstep weights."""
+    t = np.clip((V[:, 2] - (joint - width)) / (2 * width), 0, 1)
+    w = t * t * (3 - 2 * t)
+    a = np.radians(deg)
+    R = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+    j = np.array([0, 0, joint])
+    return (1 - w)[:, None] * V + w[:, None] * ((V - j) @ R.T + j)
+
+
+def jittered_arm(seed=0):
+    m = cylinder(segments=64, rings=320)
+    h = 2 * np.pi * 0.15 / 64
+    return m.with_vertices(m.V + np.random.default_rng(seed).uniform(-0.25, 0.25, m.V.shape) * h)
+
+
+def test_survives_bending_up_to_60_degrees():
+    arm = jittered_arm()
+    r = L.embed(arm, payload="M", key="arm")  # thesis defaults: 24 carriers for a 24-bit frame
+    for deg in (15, 30, 60):
+        x = L.extract(bend(r.V, deg), arm, keyfile=r.keyfile)
+        assert x.cdr >= 0.95 and x.message == "M" and x.detected, deg
+    r = L.embed(arm, payload="M", key="arm", K=600, n_thr=20, n_robust=3)  # 50 carriers: ~2x repetition
+    for deg in (15, 30, 60):
+        x = L.extract(bend(r.V, deg), arm, keyfile=r.keyfile)
+        assert x.cdr >= 0.95 and x.message == "M", deg
+
+
+def test_polygon_mesh_uses_its_edge_graph(tmp_path):
+    arm = jittered_arm()
+    q = meshmark.shapes._grid_quads(320, 64, True, False)  # the tube as quads (caps left out)
+    qm = meshmark.Mesh(arm.V[:-2], q)
+    assert L.capacity(qm) != L.capacity(meshmark.Mesh(arm.V[:-2], np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])))
+    r = L.embed(qm, payload=Payload.from_bits([1, 0, 1]), key="q", n_thr=20)
+    assert L.extract(r.V, qm, keyfile=r.keyfile).cdr == 1.0
+
+
+def test_cli_embed_extract_capacity(tmp_path):
+    src = str(shared_mesh("classic/elephant.off"))
+    run = lambda *a: subprocess.run([sys.executable, "-m", "meshmark.cli", *a], capture_output=True, text=True)
+    c = json.loads(run("capacity", src, "--method", "laplacian", "--json").stdout)
+    assert c["capacity"] == 44 and c["params"]["K"] == 286
+    out, kf = str(tmp_path / "m.ply"), str(tmp_path / "k.json")
+    e = run("embed", src, out, "--method", "laplacian", "--bits", "1011001110", "--key", "abc", "--keyfile", kf, "--json")
+    assert e.returncode == 0, e.stderr
+    assert json.loads(e.stdout)["capacity"] == 44
+    x = run("extract", out, "--keyfile", kf, "--json")
+    d = json.loads(x.stdout)
+    assert x.returncode == 0 and d["detected"] and d["message"] == "1011001110" and d["cdr"] == 1.0
+    w = run("extract", out, "--keyfile", kf, "--key", "not-abc", "--json")
+    assert w.returncode == 1 and json.loads(w.stdout)["detected"] is False
+    big = run("embed", src, out, "--message", "this message is far too long", "--key", "k", "--keyfile", kf)
+    assert big.returncode == 2 and "can carry 44 bits" in big.stderr
