@@ -14,10 +14,12 @@ MatrixX3dR quantize(const Eigen::Ref<const MatrixX3dR>& V, int bits) {
     const double step = (hi - lo) / std::ldexp(1.0, bits);
     if (!(step > 0)) continue;
     for (Eigen::Index i = 0; i < V.rows(); ++i) {
-      // MEPP CoordinateQuantization (Wang et al. 2010 benchmark): snap to lo + k step, ties down
-      const double x = V(i, a);
-      const double xint = std::floor((x - lo) / step) * step + lo;
-      out(i, a) = (x - xint <= 0.5 * step) ? xint : xint + step;
+      // the levels of MEPP's CoordinateQuantization (Wang et al. 2010 benchmark), ties down; computed
+      // as lo + k step from the integer k so that each level has exactly one floating-point value
+      const double u = (V(i, a) - lo) / step;
+      double k = std::floor(u);
+      if (u - k > 0.5) k += 1;
+      out(i, a) = lo + k * step;
     }
   }
   return out;
