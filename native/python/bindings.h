@@ -7,5 +7,7 @@ namespace meshmark::python {
 void bind_mesh(pybind11::module_& m);  // validation, topology, geometry, PCA, info (bind_mesh.cpp)
 void bind_io(pybind11::module_& m);    // read_mesh / write_mesh (bind_io.cpp)
 void bind_laplacian(pybind11::module_& m);  // ch. 7 Laplacian-coordinate watermark (bind_laplacian.cpp)
+void bind_attacks(pybind11::module_& m);    // attacks: similarity, noise, smoothing, quantization, ... (bind_attacks.cpp)
+void bind_metrics(pybind11::module_& m);    // distortion metrics: RMSE, surface distance, normal degradation (bind_metrics.cpp)
 
 }  // namespace meshmark::python

@@ -11,4 +11,6 @@ PYBIND11_MODULE(_core, m) {
   meshmark::python::bind_mesh(m);
   meshmark::python::bind_io(m);
   meshmark::python::bind_laplacian(m);
+  meshmark::python::bind_attacks(m);
+  meshmark::python::bind_metrics(m);
 }

@@ -1,5 +1,17 @@
 """Distortion and watermark metrics.
 
+Distortion between a reference mesh M and an attacked mesh M' (native core, no Python loops):
+
+* :func:`vertex_rmse` — RMSE between corresponding vertices (same vertex count);
+* :func:`surface_distance` — Metro-style distances: sample one surface (its vertices plus area-uniform
+  random points), exact point-to-triangle distances to the other through a bounding-box tree, both
+  directions; the maximum is the Hausdorff distance, the RMS the Metro RMS; absolute and relative to
+  the bounding-box diagonal of M. :func:`one_sided_distance`, :func:`point_mesh_distance` and
+  :func:`sample_surface` are its parts;
+* :func:`normal_degradation` — dis(M, M') of eq. 3.2.2 with mean, area or dihedral-Gaussian
+  (eq. 3.2.3, mu = 0, sigma = 3.5 degrees) weights; :func:`min_dihedral_angles` gives the x_i of 3.2.3;
+* :func:`compare` — all of the above in one dict (the ``meshmark compare`` command).
+
 Watermark measures compare an embedded bit sequence ``w`` with an extracted one ``w2`` (arrays of
 0/1 or -1/+1, same length):
 
@@ -9,6 +21,8 @@ Watermark measures compare an embedded bit sequence ``w`` with an extracted one 
 * :func:`cdr` — correct detection rate, the fraction of bits that agree; :func:`bit_error_rate` = 1 - CDR;
 * :func:`false_alarm_probability` — P(X >= matches), X ~ Binomial(n, 1/2): the chance that a random
   sequence agrees with ``w`` on at least as many bits. The detection decision uses it.
+
+See ``docs/metrics.md`` for the conventions (sample counts, what "relative" means, degenerate faces).
 """
 from __future__ import annotations
 
@@ -16,7 +30,9 @@ import math
 
 import numpy as np
 
+from . import _core
 from ._core import MeshError
+from .mesh import Mesh, _as_vertices, as_mesh
 
 
 def _pm1(w, name: str) -> np.ndarray:
@@ -70,3 +86,149 @@ def false_alarm_probability(matches: int, n: int) -> float:
         return 1.0
     tail = sum(math.comb(n, k) for k in range(matches, n + 1))
     return float(tail / (1 << n)) if n < 1000 else math.exp(math.log(tail) - n * math.log(2))
+
+
+# --- distortion metrics ------------------------------------------------------------------------------
+
+def _tri_mesh(V, F):
+    m = as_mesh(V, F)
+    return m, np.ascontiguousarray(m.triangles, dtype=np.int32)
+
+
+def _pair_meshes(A, B):
+    """(mesh A, mesh B) from Meshes or (V, F) tuples."""
+    def one(x, name):
+        if isinstance(x, Mesh):
+            return x
+        if isinstance(x, tuple) and len(x) == 2:
+            return as_mesh(*x)
+        raise MeshError(f"{name} must be a Mesh or a (V, F) tuple")
+    return one(A, "A"), one(B, "B")
+
+
+def vertex_rmse(V, V2) -> float:
+    """sqrt(mean_i |v_i - v'_i|^2) over corresponding vertices, model units.
+
+    V, V2: (n, 3) arrays or Meshes with the same vertex count (MeshError otherwise).
+    """
+    return float(_core.vertex_rmse(_as_vertices(V), _as_vertices(V2, "V2")))
+
+
+def bbox_diagonal(V, F=None) -> float:
+    """Length of the bounding-box diagonal of the vertices used by the faces (all vertices if F is None
+    and V is an array)."""
+    if F is None and not isinstance(V, Mesh):
+        P = _as_vertices(V)
+    else:
+        m = as_mesh(V, F)
+        used = np.zeros(m.n_vertices, bool)
+        used[m.face_indices] = True
+        P = m.V[used]
+    if len(P) == 0:
+        raise MeshError("mesh has no vertices")
+    return float(np.linalg.norm(P.max(0) - P.min(0)))
+
+
+def min_dihedral_angles(V, F=None) -> np.ndarray:
+    """(t,) x_i of eq. 3.2.3 in degrees: per triangle, the smallest angle between its normal and the
+    normal of an edge-adjacent triangle (0 = coplanar); +inf for a triangle without a usable neighbour."""
+    m, T = _tri_mesh(V, F)
+    return _core.min_dihedral_angles_deg(m.V, T)
+
+
+def normal_degradation(V, V2, F=None, *, weighting: str = "mean", mu: float = 0.0, sigma: float = 3.5,
+                       degrees: bool = False, return_details: bool = False):
+    """dis(M, M') of eq. 3.2.2: ``sum_i w_i angle(n_i, n'_i) / sum_i w_i`` over the triangles.
+
+    M = (V, F), M' = (V2, F): the same faces (a Mesh for V supplies F; V2 may be a Mesh or an array).
+    angle = atan2(|n x n'|, n . n'), the smaller angle, in radians (``degrees=True`` converts).
+    weighting: ``"mean"`` (w = 1), ``"area"`` (area in M), ``"dihedral"`` (eq. 3.2.3 Gaussian of the
+    smallest dihedral angle x_i in degrees, mu = 0, sigma = 3.5 as in the thesis). Triangles with a
+    zero or non-finite normal in M or M' are excluded. With ``return_details`` returns
+    ``(value, {"angles": (t,) rad, "weights": (t,), "n_excluded": int})``.
+    """
+    m, T = _tri_mesh(V, F)
+    V2a = _as_vertices(V2, "V2")
+    if V2a.shape != m.V.shape:
+        raise MeshError(f"normal degradation needs the same vertices and faces: {m.V.shape[0]} and {V2a.shape[0]} vertices")
+    val, ang, w, nex = _core.normal_degradation(m.V, V2a, T, weighting, float(mu), float(sigma))
+    if degrees:
+        val = math.degrees(val)
+    if return_details:
+        return val, {"angles": ang, "weights": w, "n_excluded": int(nex)}
+    return val
+
+
+def sample_surface(V, F=None, *, n: int, seed: int = 0):
+    """``n`` points uniformly distributed by area on the triangles: ``(P (n, 3), face (n,) int32)``,
+    grouped by triangle. Deterministic for a given seed (see surface_distance.h for the draw order)."""
+    m, T = _tri_mesh(V, F)
+    return _core.sample_surface(m.V, T, int(n), int(seed))
+
+
+def point_mesh_distance(P, V, F=None):
+    """Exact distance from each point of ``P`` (k, 3) to the surface: ``(dist (k,), face (k,))``."""
+    m, T = _tri_mesh(V, F)
+    return _core.point_mesh_distance(_as_vertices(P, "P"), m.V, T)
+
+
+def _n_default(n_samples, n_tri):
+    if n_samples is None:
+        return 2 * n_tri
+    n = int(n_samples)
+    if n < 0:
+        raise MeshError(f"n_samples must be >= 0, got {n_samples}")
+    return n
+
+
+def one_sided_distance(A, B, *, n_samples: int | None = None, include_vertices: bool = True, seed: int = 0) -> dict:
+    """Distances from samples of surface A to surface B (Metro; MeshLab's Hausdorff filter with
+    SampleVert + SampleFace): every referenced vertex of A (``include_vertices``) plus ``n_samples``
+    area-uniform points (default 2 x triangles of A). Returns ``max``, ``mean``, ``rms``, ``min`` (model
+    units) and ``n_samples`` (the total)."""
+    ma, mb = _pair_meshes(A, B)
+    Ta, Tb = np.ascontiguousarray(ma.triangles, np.int32), np.ascontiguousarray(mb.triangles, np.int32)
+    return dict(_core.one_sided_distance(ma.V, Ta, mb.V, Tb, _n_default(n_samples, len(Ta)),
+                                         bool(include_vertices), int(seed)))
+
+
+def surface_distance(A, B, *, n_samples: int | None = None, include_vertices: bool = True, seed: int = 0) -> dict:
+    """Symmetric Metro-style distance between a reference A and an attacked B (Meshes or (V, F)).
+
+    Samples A -> B with ``seed`` and B -> A with ``seed + 1`` (see :func:`one_sided_distance`).
+    Returns ``hausdorff`` = max of the two one-sided maxima, ``rms`` = max of the two one-sided RMS,
+    ``mean`` = max of the one-sided means (model units), the same divided by the bounding-box diagonal
+    of A (``*_rel``), ``diag``, and the one-sided dicts ``ab`` and ``ba``.
+    """
+    ab = one_sided_distance(A, B, n_samples=n_samples, include_vertices=include_vertices, seed=seed)
+    ba = one_sided_distance(B, A, n_samples=n_samples, include_vertices=include_vertices, seed=seed + 1)
+    ma, _ = _pair_meshes(A, B)
+    diag = bbox_diagonal(ma)
+    out = {"hausdorff": max(ab["max"], ba["max"]), "rms": max(ab["rms"], ba["rms"]),
+           "mean": max(ab["mean"], ba["mean"]), "diag": diag}
+    for k in ("hausdorff", "rms", "mean"):
+        out[k + "_rel"] = out[k] / diag if diag > 0 else float("nan")
+    out["ab"], out["ba"] = ab, ba
+    return out
+
+
+def compare(A, B, *, n_samples: int | None = None, seed: int = 0) -> dict:
+    """Every distortion measure between a reference A and an attacked B (Meshes or (V, F)).
+
+    Keys: ``rmse`` (vertex RMSE, None unless the vertex counts match), ``rmse_rel``, ``hausdorff``,
+    ``hausdorff_rel``, ``rms``, ``rms_rel``, ``mean``, ``mean_rel``, ``diag``, and ``normal_deg_mean``,
+    ``normal_deg_area``, ``normal_deg_dihedral`` in degrees (None unless A and B have the same faces).
+    """
+    ma, mb = _pair_meshes(A, B)
+    sd = surface_distance(ma, mb, n_samples=n_samples, seed=seed)
+    out = {"n_vertices": [ma.n_vertices, mb.n_vertices], "n_faces": [ma.n_faces, mb.n_faces]}
+    same_v = ma.n_vertices == mb.n_vertices
+    out["rmse"] = vertex_rmse(ma, mb) if same_v else None
+    out["rmse_rel"] = out["rmse"] / sd["diag"] if same_v and sd["diag"] > 0 else None
+    for k in ("hausdorff", "hausdorff_rel", "rms", "rms_rel", "mean", "mean_rel", "diag"):
+        out[k] = sd[k]
+    same_f = (same_v and np.array_equal(ma.face_offsets, mb.face_offsets)
+              and np.array_equal(ma.face_indices, mb.face_indices))
+    for w in ("mean", "area", "dihedral"):
+        out["normal_deg_" + w] = (normal_degradation(ma, mb, weighting=w, degrees=True) if same_f else None)
+    return out
