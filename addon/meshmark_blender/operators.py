@@ -211,6 +211,7 @@ class MESHMARK_OT_verify(_Base, bpy.types.Operator):
         try:
             t0 = time.perf_counter()
             mesh = bridge.evaluated_mesh(context, obj) if evaluated else bridge.base_mesh(obj)
+            mesh, welded = bridge.match_keyfile(mesh, kf.mesh.get("n_vertices"))
             t_read = time.perf_counter() - t0
             res = wm_extract(mesh, keyfile=kf, key=key, progress=progress)
             t_native = time.perf_counter() - t0 - t_read
@@ -218,7 +219,7 @@ class MESHMARK_OT_verify(_Base, bpy.types.Operator):
             progress.end()
         d = res.to_dict()
         result = {"ok": True, "object": obj.name, "keyfile": keyfile, "evaluated": bool(evaluated),
-                  "frame": context.scene.frame_current, "n_vertices": mesh.n_vertices, **d,
+                  "frame": context.scene.frame_current, "n_vertices": mesh.n_vertices, "welded": welded, **d,
                   "seconds_native": t_native}
         for w in res.warnings:
             self.report({"WARNING"}, f"meshmark: {w}")
@@ -299,9 +300,9 @@ class MESHMARK_OT_deformation_study(_Base, bpy.types.Operator):
             for i, f in enumerate(frames):
                 scene.frame_set(f)
                 m = bridge.evaluated_mesh(context, obj)
-                r = wm_extract(m, keyfile=kf)
                 disp = (float(np.linalg.norm(m.V - rest.V, axis=1).max()) / diag
-                        if m.n_vertices == rest.n_vertices else math.nan)
+                        if m.n_vertices == rest.n_vertices else math.nan)  # Blender's vertex order
+                r = wm_extract(bridge.match_keyfile(m, kf.mesh.get("n_vertices"))[0], keyfile=kf)
                 rows.append({"frame": f, "nc": r.nc, "cdr": r.cdr, "matches": r.matches, "bits": r.n_bits,
                              "detected": r.detected, "message_ok": r.message_ok, "message": r.message,
                              "max_disp_rel": disp})
