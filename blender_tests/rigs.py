@@ -137,3 +137,8 @@ def write_table(name: str, header: list, rows: list, note: str = "") -> str:
         f.write(text)
     print(f"\n[{name}]\n{text}")
     return text
+
+
+def bridge_faces(obj):
+    from meshmark_blender import bridge
+    return bridge.faces(obj.data)

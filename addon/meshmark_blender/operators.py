@@ -133,6 +133,8 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
 
     method: _method_arg()
     message: StringProperty(name="Message", options={"SKIP_SAVE"})
+    bits: StringProperty(name="Bits", options={"SKIP_SAVE"},
+                         description="A raw bit string such as 0110 to hide instead of the text message")
     key: StringProperty(name="Key", options={"SKIP_SAVE"}, subtype="PASSWORD")
     keyfile: StringProperty(name="Keyfile", options={"SKIP_SAVE"}, subtype="FILE_PATH")
     filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE", "HIDDEN"})
@@ -152,7 +154,9 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
         key = self.arg(context, "key")
         keyfile = _abspath(self.keyfile if self.properties.is_property_set("keyfile") and self.keyfile
                            else self.filepath or context.scene.meshmark.keyfile)
-        _check_text(message)
+        payload = Payload.from_bits(self.bits) if self.bits else message
+        if not self.bits:
+            _check_text(message)
         if not key:
             raise MeshError("the key is empty: type a secret key")
         if not keyfile:
@@ -164,7 +168,7 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
         progress = _Progress(context, 0.0, 0.9)
         try:
             t0 = time.perf_counter()
-            res = wm_embed(mesh, payload=message, key=key, method=method, progress=progress, **params)
+            res = wm_embed(mesh, payload=payload, key=key, method=method, progress=progress, **params)
             t_native = time.perf_counter() - t0
             # what Blender will store (float32), checked before anything is written
             D = res.V - mesh.V
@@ -183,7 +187,7 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
                   "max_disp_rel": disp, "seconds_native": t_native}
         level = "INFO" if check.message_ok and check.cdr == 1.0 else "WARNING"
         return self.finish(context, result, level,
-                           f"meshmark: embedded {message!r} into '{obj.name}' ({res.capacity} carrier bits, "
+                           f"meshmark: embedded {self.bits or message!r} into '{obj.name}' ({res.capacity} carrier bits, "
                            f"CDR as stored {check.cdr:.3f}); keyfile: {keyfile}")
 
 
