@@ -76,8 +76,8 @@ print("check_extension:", bpy.context.scene.meshmark.last_result, "from", meshma
 def check_install(zip_path: str) -> None:
     """Install the zip with Blender's extension installer into a throw-away user directory, in a
     Python that cannot see any other meshmark, and run an operator from it."""
-    import bpy
-    sp_real = os.path.dirname(os.path.dirname(bpy.__file__))
+    import importlib.util
+    sp_real = os.path.dirname(os.path.dirname(importlib.util.find_spec("bpy").origin))  # .../site-packages
     with tempfile.TemporaryDirectory() as tmp:
         sp = os.path.join(tmp, "site")  # the bpy environment without any meshmark in it
         os.makedirs(sp)
