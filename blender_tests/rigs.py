@@ -37,6 +37,8 @@ def mesh_object(name: str, V=None, F=None, mesh: meshmark.Mesh | None = None):
     me.loops.foreach_set("vertex_index", m.face_indices)
     me.polygons.add(nf)
     me.polygons.foreach_set("loop_start", m.face_offsets[:-1].astype(np.int32))
+    if bpy.app.version < (4, 0, 0):  # before 4.0 the polygon sizes are stored, not derived
+        me.polygons.foreach_set("loop_total", np.diff(m.face_offsets).astype(np.int32))
     me.update(calc_edges=True)
     me.validate()
     obj = bpy.data.objects.new(name, me)

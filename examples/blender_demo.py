@@ -162,6 +162,8 @@ def load_user_mesh(path: str, object_name: str | None):
         me.loops.foreach_set("vertex_index", m.face_indices)
         me.polygons.add(m.n_faces)
         me.polygons.foreach_set("loop_start", m.face_offsets[:-1].astype(np.int32))
+        if bpy.app.version < (4, 0, 0):  # before 4.0 the polygon sizes are stored, not derived
+            me.polygons.foreach_set("loop_total", np.diff(m.face_offsets).astype(np.int32))
         me.update(calc_edges=True)
         obj = bpy.data.objects.new(me.name, me)
         bpy.context.scene.collection.objects.link(obj)

@@ -31,13 +31,15 @@ if "bpy" in locals():  # "Reload Scripts": reload the submodules too
 import bpy  # noqa: E402
 
 try:
+    import numpy  # noqa: F401
     import meshmark  # noqa: F401  (the wheel of the extension, or the user's Python path)
     import meshmark.watermark  # noqa: F401
     _IMPORT_ERROR = None
 except ImportError as exc:  # report at register time instead of failing on import
     _IMPORT_ERROR = exc
 
-from . import bridge, study, params, properties, operators, panels  # noqa: E402,F401
+if _IMPORT_ERROR is None:
+    from . import bridge, study, params, properties, operators, panels  # noqa: E402,F401
 
 
 def register():
