@@ -35,7 +35,7 @@ def mesh_arrays(obj, evaluated: bool = False):
 @pytest.fixture(scope="session")
 def addon():
     """The meshmark add-on (addon/meshmark_blender), registered once for the session."""
-    import rigs  # noqa: F401  (puts addon/ on sys.path)
+    from blender_tests import rigs  # noqa: F401  (puts addon/ on sys.path)
     import meshmark_blender
     meshmark_blender.register()
     yield meshmark_blender

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import meshmark
-import rigs
-from rigs import last_result
+from blender_tests import rigs
+from blender_tests.rigs import last_result
 
 
 def _coords(obj):

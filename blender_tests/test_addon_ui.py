@@ -10,7 +10,7 @@ import bpy
 import pytest
 
 import meshmark
-import rigs
+from blender_tests import rigs
 
 
 class CheckingLayout:

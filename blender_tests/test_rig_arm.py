@@ -7,8 +7,8 @@ import bpy
 import numpy as np
 import pytest
 
-import rigs
-from rigs import last_result
+from blender_tests import rigs
+from blender_tests.rigs import last_result
 
 THESIS = {}  # thesis defaults (§7.4)
 REPEAT = {"K": 600, "n_thr": 20, "n_robust": 3}  # ~2x repetition of the frame

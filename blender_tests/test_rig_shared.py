@@ -6,8 +6,8 @@ import bpy
 import pytest
 
 import meshmark
-import rigs
-from rigs import last_result
+from blender_tests import rigs
+from blender_tests.rigs import last_result
 
 POSES = [(0, 0), (5, 0), (10, 0), (15, 0), (20, 0), (30, 0), (45, 0), (60, 0), (90, 0), (0, 45), (15, 15)]
 

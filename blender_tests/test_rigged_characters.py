@@ -13,8 +13,8 @@ import bpy
 import numpy as np
 import pytest
 
-import rigs
-from rigs import last_result
+from blender_tests import rigs
+from blender_tests.rigs import last_result
 
 
 def _play(obj, rig, kf, actions, tmp_path, step=1):

@@ -8,8 +8,8 @@ import bpy
 import pytest
 
 import meshmark
-import rigs
-from rigs import last_result
+from blender_tests import rigs
+from blender_tests.rigs import last_result
 
 
 @pytest.fixture
