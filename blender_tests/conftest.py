@@ -30,3 +30,13 @@ def mesh_arrays(obj, evaluated: bool = False):
     np.cumsum(totals, out=offsets[1:])
     assert (starts == offsets[:-1]).all()
     return co.reshape(-1, 3).astype(np.float64), loops, offsets
+
+
+@pytest.fixture(scope="session")
+def addon():
+    """The meshmark add-on (addon/meshmark_blender), registered once for the session."""
+    from blender_tests import rigs  # noqa: F401  (puts addon/ on sys.path)
+    import meshmark_blender
+    meshmark_blender.register()
+    yield meshmark_blender
+    meshmark_blender.unregister()

@@ -4,7 +4,7 @@ import bpy
 import numpy as np
 
 import meshmark
-from conftest import mesh_arrays
+from blender_tests.conftest import mesh_arrays
 
 
 def _blender_counts(obj):

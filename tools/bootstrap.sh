@@ -5,7 +5,8 @@
 #   2. a virtual environment in .venv with the build tools;
 #   3. meshmark built in Release mode into it (rebuilt only when a source file changed; the CMake
 #      build tree build/py is kept, so rebuilds are incremental) and, with MESHMARK_WITH_TESTS=1,
-#      the C++ tests, the test extras and the bpy wheel.
+#      the C++ tests, the test extras and the bpy wheel; with MESHMARK_WITH_BLENDER=1 (./demo.sh) the
+#      bpy wheel and matplotlib for the Blender demo.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
@@ -59,7 +60,11 @@ if [ "$need_build" = 1 ]; then
   echo "tests=$want_tests" > "$stamp"
 fi
 
-if [ "$want_tests" = 1 ] && ! "$VPY" -c "import bpy" 2>/dev/null; then
+want_blender="${MESHMARK_WITH_BLENDER:-$want_tests}"
+if [ "$want_blender" = 1 ] && ! "$VPY" -c "import bpy" 2>/dev/null; then
   say "installing the bpy wheel (Blender as a Python module; about 400 MB the first time)"
   "$VPY" -m pip install -q "bpy==5.0.1"
+fi
+if [ "$want_blender" = 1 ] && ! "$VPY" -c "import matplotlib" 2>/dev/null; then
+  "$VPY" -m pip install -q "matplotlib>=3.7"
 fi

@@ -1,0 +1,134 @@
+"""Build the installable Blender extension zip: the add-on plus the meshmark wheel under wheels/.
+
+    python addon/build_extension.py                 # builds the wheel (pip wheel .) then the zip
+    python addon/build_extension.py --wheel W.whl   # use an existing meshmark wheel
+
+Output: dist/meshmark-<version>.zip (install in Blender 4.2+: Edit > Preferences > Get Extensions >
+(menu) Install from Disk..., or `blender --command extension install-file -r user_default <zip>`).
+The manifest is validated, and the zip built, by Blender's own extension tool (`blender_ext.py`, the
+code behind `blender --command extension validate|build`), found in the bpy module or a Blender
+binary; without either the zip is built with zipfile and only the TOML is parsed.
+"""
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import tomllib
+import zipfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+SRC = os.path.join(HERE, "meshmark_blender")
+
+
+def blender_ext_tool() -> str | None:
+    """Path of Blender's blender_ext.py (bpy module first, then a `blender` binary's scripts)."""
+    try:
+        import bpy  # noqa: F401
+        scripts = bpy.utils.system_resource("SCRIPTS")
+        p = os.path.join(scripts, "addons_core", "bl_pkg", "cli", "blender_ext.py")
+        if os.path.isfile(p):
+            return p
+    except Exception:
+        pass
+    for p in glob.glob("/usr/share/blender/*/scripts/addons_core/bl_pkg/cli/blender_ext.py"):
+        return p
+    return None
+
+
+def build_wheel(out: str) -> str:
+    subprocess.run([sys.executable, "-m", "pip", "wheel", ROOT, "-w", out, "--no-deps", "--no-build-isolation",
+                    "-Cbuild-dir=build/wheel", "-Ccmake.define.MESHMARK_BUILD_TESTS=OFF"], check=True, cwd=ROOT)
+    wheels = sorted(glob.glob(os.path.join(out, "meshmark-*.whl")), key=os.path.getmtime)
+    if not wheels:
+        raise SystemExit("build_extension: pip wheel produced no meshmark wheel")
+    return wheels[-1]
+
+
+def platform_of(wheel: str) -> str:
+    tag = os.path.basename(wheel).rsplit("-", 1)[-1]
+    for pat, plat in (("linux_x86_64|manylinux.*x86_64", "linux-x64"), ("linux.*aarch64", "linux-arm64"),
+                      ("win_amd64", "windows-x64"), ("macosx.*arm64", "macos-arm64"), ("macosx.*x86_64", "macos-x64")):
+        if re.search(pat, tag):
+            return plat
+    raise SystemExit(f"build_extension: unknown wheel platform {tag}")
+
+
+CHECK = """
+import sys
+sys.path[:] = [p for p in sys.path if p] + [{sp!r}]
+import bpy
+bpy.ops.extensions.package_install_files(filepath={zip!r}, repo="user_default", enable_on_install=True)
+import meshmark
+assert meshmark.__file__.startswith({user!r}), meshmark.__file__  # the extension's own wheel
+bpy.ops.mesh.primitive_monkey_add()
+bpy.ops.meshmark.capacity(K=20, n_thr=4)
+print("check_extension:", bpy.context.scene.meshmark.last_result, "from", meshmark.__file__)
+"""
+
+
+def check_install(zip_path: str) -> None:
+    """Install the zip with Blender's extension installer into a throw-away user directory, in a
+    Python that cannot see any other meshmark, and run an operator from it."""
+    import importlib.util
+    sp_real = os.path.dirname(os.path.dirname(importlib.util.find_spec("bpy").origin))  # .../site-packages
+    with tempfile.TemporaryDirectory() as tmp:
+        sp = os.path.join(tmp, "site")  # the bpy environment without any meshmark in it
+        os.makedirs(sp)
+        for e in os.listdir(sp_real):
+            if not e.startswith("meshmark") and "meshmark" not in e:
+                os.symlink(os.path.join(sp_real, e), os.path.join(sp, e))
+        user = os.path.join(tmp, "user")
+        code = CHECK.format(sp=sp, zip=zip_path, user=user)
+        env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+        env["BLENDER_USER_RESOURCES"] = user
+        subprocess.run([sys.executable, "-S", "-c", code], check=True, env=env, cwd=tmp)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--wheel", help="an existing meshmark wheel (default: build one)")
+    ap.add_argument("--check", action="store_true",
+                    help="install the zip into a temporary Blender user directory and run an operator")
+    ap.add_argument("--out", default=os.path.join(ROOT, "dist"), help="output directory (default dist/)")
+    a = ap.parse_args(argv)
+    os.makedirs(a.out, exist_ok=True)
+    wheel = os.path.abspath(a.wheel) if a.wheel else build_wheel(os.path.join(ROOT, "build", "ext-wheels"))
+    with tempfile.TemporaryDirectory() as tmp:
+        stage = os.path.join(tmp, "meshmark")
+        shutil.copytree(SRC, stage, ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "wheels"))
+        os.makedirs(os.path.join(stage, "wheels"))
+        shutil.copy2(wheel, os.path.join(stage, "wheels"))
+        manifest = os.path.join(stage, "blender_manifest.toml")
+        text = open(manifest, encoding="utf-8").read()
+        text = re.sub(r'^wheels = \[.*\]$', f'wheels = ["./wheels/{os.path.basename(wheel)}"]', text, flags=re.M)
+        text = re.sub(r'^platforms = \[.*\]$', f'platforms = ["{platform_of(wheel)}"]', text, flags=re.M)
+        open(manifest, "w", encoding="utf-8").write(text)
+        m = tomllib.loads(text)
+        name = f"{m['id']}-{m['version']}.zip"
+        tool = blender_ext_tool()
+        if tool:
+            subprocess.run([sys.executable, tool, "validate", stage], check=True)
+            subprocess.run([sys.executable, tool, "build", "--source-dir", stage, "--output-filepath",
+                            os.path.join(a.out, name)], check=True)
+        else:
+            print("build_extension: Blender's extension tool not found; zipping without validation")
+            with zipfile.ZipFile(os.path.join(a.out, name), "w", zipfile.ZIP_DEFLATED) as z:
+                for d, _, files in os.walk(stage):
+                    for f in files:
+                        p = os.path.join(d, f)
+                        z.write(p, os.path.relpath(p, stage))
+    print(f"build_extension: {os.path.join(a.out, name)}")
+    if a.check:
+        check_install(os.path.join(a.out, name))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

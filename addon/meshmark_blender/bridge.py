@@ -1,0 +1,132 @@
+"""Blender mesh data <-> numpy and meshmark.Mesh, with foreach_get/foreach_set only (no
+per-vertex Python). Coordinates are in object space, as Blender stores them (float32)."""
+from __future__ import annotations
+
+import bpy
+import numpy as np
+
+import meshmark
+
+
+class BlenderInputError(Exception):
+    """Something about the Blender side (no object, wrong type, edit mode) that stops an operator."""
+
+
+def active_mesh_object(context):
+    obj = getattr(context, "active_object", None) or getattr(context.view_layer.objects, "active", None)
+    if obj is None:
+        raise BlenderInputError("no active object: select a mesh object first")
+    if obj.type != "MESH":
+        raise BlenderInputError(f"the active object '{obj.name}' is a {obj.type.lower()}, not a mesh")
+    if obj.mode == "EDIT":
+        raise BlenderInputError(f"'{obj.name}' is in Edit Mode: switch to Object Mode first")
+    return obj
+
+
+def _coords(collection, n: int) -> np.ndarray:
+    co = np.empty(3 * n, np.float32)
+    collection.foreach_get("co", co)
+    return co.reshape(n, 3)
+
+
+def faces(me):
+    """(loop vertex indices int32, offsets int64) of a Blender mesh (polygons as stored)."""
+    m, c = len(me.polygons), len(me.loops)
+    loops = np.empty(c, np.int32)
+    me.loops.foreach_get("vertex_index", loops)
+    totals = np.empty(m, np.int32)
+    me.polygons.foreach_get("loop_total", totals)
+    starts = np.empty(m, np.int32)
+    me.polygons.foreach_get("loop_start", starts)
+    offsets = np.zeros(m + 1, np.int64)
+    np.cumsum(totals, out=offsets[1:])
+    if m and not (starts == offsets[:-1]).all():  # Blender keeps loops in polygon order; be safe
+        order = np.argsort(starts, kind="stable")
+        loops = np.concatenate([loops[s:s + t] for s, t in zip(starts[order], totals[order])])
+        offsets[1:] = np.cumsum(totals[order])
+    return loops, offsets
+
+
+def base_coords(me) -> np.ndarray:
+    """(n, 3) float32 base positions: the reference (Basis) shape key if any, else vertices."""
+    n = len(me.vertices)
+    if me.shape_keys is not None and me.shape_keys.reference_key is not None:
+        return _coords(me.shape_keys.reference_key.data, n)
+    return _coords(me.vertices, n)
+
+
+def base_mesh(obj) -> meshmark.Mesh:
+    """The undeformed mesh of ``obj`` (its Basis), no modifiers, as a validated meshmark.Mesh."""
+    me = obj.data
+    loops, offsets = faces(me)
+    return meshmark.Mesh.from_polygons(base_coords(me).astype(np.float64), loops, offsets)
+
+
+def evaluated_mesh(context, obj) -> meshmark.Mesh:
+    """The mesh as the depsgraph evaluates it now (armature, shape keys, lattice, other modifiers)."""
+    dg = context.evaluated_depsgraph_get()
+    ob_eval = obj.evaluated_get(dg)
+    me = ob_eval.to_mesh()
+    try:
+        loops, offsets = faces(me)
+        V = _coords(me.vertices, len(me.vertices)).astype(np.float64)
+    finally:
+        ob_eval.to_mesh_clear()
+    return meshmark.Mesh.from_polygons(V, loops, offsets)
+
+
+def apply_displacement(obj, D: np.ndarray) -> None:
+    """Add the (n, 3) displacement ``D`` to the base mesh and to every shape key, so that the Basis
+    takes the mark and every key keeps its offset from the Basis. UVs, vertex groups, attributes and
+    topology are untouched (only positions are written)."""
+    me = obj.data
+    n = len(me.vertices)
+    D = np.asarray(D, np.float64)
+    if D.shape != (n, 3):
+        raise ValueError(f"displacement has shape {D.shape}, the mesh has {n} vertices")
+    targets = [me.vertices]
+    if me.shape_keys is not None:
+        targets += [kb.data for kb in me.shape_keys.key_blocks]
+    for coll in targets:
+        co = _coords(coll, n).astype(np.float64)
+        coll.foreach_set("co", (co + D).astype(np.float32).ravel())
+    me.update()
+    obj.update_tag()
+
+
+def bbox_diagonal(V: np.ndarray) -> float:
+    return float(np.linalg.norm(V.max(0) - V.min(0))) if len(V) else 0.0
+
+
+def weld_coincident(mesh: meshmark.Mesh) -> meshmark.Mesh:
+    """Merge vertices at exactly equal positions (what exporters split at UV seams and sharp
+    edges: glTF, FBX, STL). Vertex order changes, which the histogram methods do not see; faces
+    left with a repeated corner are dropped. Vectorized numpy."""
+    V, inv = np.unique(mesh.V, axis=0, return_inverse=True)
+    inv = inv.reshape(-1).astype(np.int32)
+    idx = inv[mesh.face_indices]
+    off = mesh.face_offsets
+    sizes = np.diff(off)
+    # a face is kept if no corner repeats the next one (cyclically) after welding
+    nxt = np.arange(idx.size) + 1
+    nxt[off[1:] - 1] = off[:-1]
+    bad_corner = idx == idx[nxt]
+    face_of = np.repeat(np.arange(sizes.size), sizes)
+    bad = np.zeros(sizes.size, bool)
+    bad[face_of[bad_corner]] = True
+    keep = ~bad
+    kept_idx = idx[np.repeat(keep, sizes)]
+    kept_off = np.zeros(int(keep.sum()) + 1, np.int64)
+    np.cumsum(sizes[keep], out=kept_off[1:])
+    return meshmark.Mesh.from_polygons(V, kept_idx, kept_off)
+
+
+def match_keyfile(mesh: meshmark.Mesh, n_expected) -> tuple[meshmark.Mesh, bool]:
+    """If ``mesh`` has a different vertex count than the keyfile's mesh and welding coincident
+    vertices restores that count, return the welded mesh (and True)."""
+    if n_expected is None or mesh.n_vertices == n_expected:
+        return mesh, False
+    welded = weld_coincident(mesh)
+    if welded.n_vertices == n_expected:
+        return welded, True
+    return mesh, False

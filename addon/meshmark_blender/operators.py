@@ -1,0 +1,410 @@
+"""``bpy.ops.meshmark.*``: embed, verify, capacity, deformation_study, save_keyfile, load_keyfile.
+
+Every operator works on the active object, takes keyword arguments from scripts (arguments not
+given fall back to ``scene.meshmark``), reports through ``self.report`` and leaves its result as a
+JSON string in ``scene.meshmark.last_result``. Failures report an error and return {'CANCELLED'}
+without touching the mesh: embed computes and checks everything, and writes the keyfile, before it
+writes a single coordinate.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+import traceback
+
+import bpy
+import numpy as np
+from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
+
+import meshmark
+from meshmark import MeshError
+from meshmark.watermark import METHODS, capacity as wm_capacity, embed as wm_embed, extract as wm_extract
+from meshmark.watermark import load_keyfile, save_keyfile
+from meshmark.watermark.payload import OVERHEAD_BITS, Payload
+
+from . import bridge, properties, study
+from . import params as _params
+
+# Session state kept out of the .blend: the last keyfile made by Embed (for "Save keyfile") and the
+# capacity of meshes the panel has shown.
+LAST = {"keyfile": None}
+CAPACITY_CACHE = {}
+
+_EXPECTED = (MeshError, bridge.BlenderInputError, OSError, ValueError)
+
+
+def _abspath(path: str) -> str:
+    return os.path.abspath(bpy.path.abspath(path)) if path else ""
+
+
+class _Progress:
+    """wm.progress_begin/update/end as a meshmark ``progress(fraction, text)`` callback."""
+
+    def __init__(self, context, lo=0.0, hi=1.0):
+        self.wm, self.lo, self.hi = context.window_manager, lo, hi
+        self.wm.progress_begin(0, 1000)
+
+    def __call__(self, fraction, text=""):
+        self.wm.progress_update(int(1000 * (self.lo + (self.hi - self.lo) * fraction)))
+
+    def end(self):
+        self.wm.progress_end()
+
+
+class _Base:
+    bl_options = {"REGISTER", "UNDO"}
+
+    def arg(self, context, name):
+        """The operator argument if given, else the scene setting of the same name."""
+        if self.properties.is_property_set(name):
+            return getattr(self, name)
+        return getattr(context.scene.meshmark, name)
+
+    def method_params(self, context, method: str) -> dict:
+        p = properties.method_settings(context.scene.meshmark, method)
+        specs = {q.name: q for q in _params.method_params(method)}
+        for name in specs:
+            if self.properties.is_property_set(name):
+                p[name] = specs[name].to_method(getattr(self, name))
+        return p
+
+    def finish(self, context, result: dict, level: str, text: str):
+        context.scene.meshmark.last_result = json.dumps(result, default=_json_default)
+        self.report({level}, text)
+        return {"FINISHED"}
+
+    def fail(self, context, exc):
+        if isinstance(exc, _EXPECTED):
+            msg = str(exc)
+        else:  # a bug: keep Blender alive, say so, and keep the traceback in the console
+            traceback.print_exc()
+            msg = f"internal error ({type(exc).__name__}: {exc}); the mesh was not changed"
+        try:
+            context.scene.meshmark.last_result = json.dumps({"ok": False, "error": msg})
+        except Exception:  # pragma: no cover - e.g. a read-only context
+            pass
+        self.report({"ERROR"}, f"meshmark: {msg}")
+        return {"CANCELLED"}
+
+    def run(self, context):
+        raise NotImplementedError
+
+    def execute(self, context):
+        try:
+            return self.run(context)
+        except Exception as exc:  # never let an exception reach Blender
+            return self.fail(context, exc)
+
+
+def _json_default(o):
+    if isinstance(o, (np.integer,)):
+        return int(o)
+    if isinstance(o, (np.floating,)):
+        return float(o)
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    return str(o)
+
+
+def _method_arg():
+    return EnumProperty(name="Method", items=properties.method_items, options={"SKIP_SAVE"})
+
+
+def _add_method_params(cls):
+    """Give an operator one keyword argument per method parameter (union over METHODS)."""
+    ann = cls.__dict__.get("__annotations__", {})
+    for name, p in _params.all_params().items():
+        ann[name] = properties.blender_property(p, options={"SKIP_SAVE"})
+    cls.__annotations__ = ann
+
+
+def _check_text(message: str, kind="text"):
+    if not message:
+        raise MeshError("the message is empty: type a message to hide")
+
+
+# ---------------------------------------------------------------------------------------------
+class MESHMARK_OT_embed(_Base, bpy.types.Operator):
+    """Embed the message into the active mesh with the chosen method and key; write the keyfile"""
+    bl_idname = "meshmark.embed"
+    bl_label = "Embed"
+
+    method: _method_arg()
+    message: StringProperty(name="Message", options={"SKIP_SAVE"})
+    bits: StringProperty(name="Bits", options={"SKIP_SAVE"},
+                         description="A raw bit string such as 0110 to hide instead of the text message")
+    key: StringProperty(name="Key", options={"SKIP_SAVE"}, subtype="PASSWORD")
+    keyfile: StringProperty(name="Keyfile", options={"SKIP_SAVE"}, subtype="FILE_PATH")
+    filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE", "HIDDEN"})
+    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+
+    def invoke(self, context, event):
+        if not (self.properties.is_property_set("keyfile") and self.keyfile) and not context.scene.meshmark.keyfile:
+            self.filepath = "keyfile.json"  # ask where the keyfile goes (never into the .blend)
+            context.window_manager.fileselect_add(self)
+            return {"RUNNING_MODAL"}
+        return self.execute(context)
+
+    def run(self, context):
+        obj = bridge.active_mesh_object(context)
+        method = self.arg(context, "method")
+        message = self.arg(context, "message")
+        key = self.arg(context, "key")
+        keyfile = _abspath(self.keyfile if self.properties.is_property_set("keyfile") and self.keyfile
+                           else self.filepath or context.scene.meshmark.keyfile)
+        payload = Payload.from_bits(self.bits) if self.bits else message
+        if not self.bits:
+            _check_text(message)
+        if not key:
+            raise MeshError("the key is empty: type a secret key")
+        if not keyfile:
+            raise MeshError("choose where to save the keyfile (keyfile='/path/k.json', or the panel's Keyfile field)")
+        if not os.path.isdir(os.path.dirname(keyfile)):
+            raise MeshError(f"cannot write the keyfile '{keyfile}': the directory does not exist")
+        params = self.method_params(context, method)
+        mesh = bridge.base_mesh(obj)
+        progress = _Progress(context, 0.0, 0.9)
+        try:
+            t0 = time.perf_counter()
+            res = wm_embed(mesh, payload=payload, key=key, method=method, progress=progress, **params)
+            t_native = time.perf_counter() - t0
+            # what Blender will store (float32), checked before anything is written
+            D = res.V - mesh.V
+            stored = (mesh.V + D).astype(np.float32).astype(np.float64)
+            check = wm_extract(mesh.with_vertices(stored), keyfile=res.keyfile)
+            progress(1.0)
+            save_keyfile(res.keyfile, keyfile)  # may fail: the mesh is still untouched
+            bridge.apply_displacement(obj, D)  # the only write
+        finally:
+            progress.end()
+        LAST["keyfile"] = res.keyfile
+        context.scene.meshmark.keyfile = keyfile
+        disp = float(np.linalg.norm(D, axis=1).max()) / max(bridge.bbox_diagonal(mesh.V), 1e-300)
+        result = {"ok": True, "object": obj.name, "keyfile": keyfile, "n_vertices": mesh.n_vertices,
+                  **res.to_dict(), "stored_cdr": check.cdr, "stored_message_ok": check.message_ok,
+                  "max_disp_rel": disp, "seconds_native": t_native}
+        level = "INFO" if check.message_ok and check.cdr == 1.0 else "WARNING"
+        return self.finish(context, result, level,
+                           f"meshmark: embedded {self.bits or message!r} into '{obj.name}' ({res.capacity} carrier bits, "
+                           f"CDR as stored {check.cdr:.3f}); keyfile: {keyfile}")
+
+
+# ---------------------------------------------------------------------------------------------
+class MESHMARK_OT_verify(_Base, bpy.types.Operator):
+    """Extract the watermark of the keyfile from the active mesh (as deformed now, or its base mesh)"""
+    bl_idname = "meshmark.verify"
+    bl_label = "Verify"
+
+    keyfile: StringProperty(name="Keyfile", options={"SKIP_SAVE"}, subtype="FILE_PATH")
+    evaluated: BoolProperty(name="Deformed", default=True, options={"SKIP_SAVE"},
+                            description="Verify the evaluated mesh (armature, shape keys, modifiers)")
+    key: StringProperty(name="Key", options={"SKIP_SAVE"}, subtype="PASSWORD",
+                        description="Use this key instead of the keyfile's (empty: the keyfile's)")
+
+    def run(self, context):
+        obj = bridge.active_mesh_object(context)
+        keyfile = _abspath(self.arg(context, "keyfile"))
+        if not keyfile:
+            raise MeshError("no keyfile: give keyfile='/path/k.json' or choose one in the panel")
+        kf = load_keyfile(keyfile)
+        evaluated = self.arg(context, "evaluated")
+        key = self.key if self.properties.is_property_set("key") and self.key else None
+        progress = _Progress(context)
+        try:
+            t0 = time.perf_counter()
+            mesh = bridge.evaluated_mesh(context, obj) if evaluated else bridge.base_mesh(obj)
+            mesh, welded = bridge.match_keyfile(mesh, kf.mesh.get("n_vertices"))
+            t_read = time.perf_counter() - t0
+            res = wm_extract(mesh, keyfile=kf, key=key, progress=progress)
+            t_native = time.perf_counter() - t0 - t_read
+        finally:
+            progress.end()
+        d = res.to_dict()
+        result = {"ok": True, "object": obj.name, "keyfile": keyfile, "evaluated": bool(evaluated),
+                  "frame": context.scene.frame_current, "n_vertices": mesh.n_vertices, "welded": welded, **d,
+                  "seconds_native": t_native}
+        for w in res.warnings:
+            self.report({"WARNING"}, f"meshmark: {w}")
+        if res.detected:
+            msg = (f"meshmark: watermark DETECTED in '{obj.name}': NC {res.nc:.3f}, CDR {res.cdr:.3f}, "
+                   + (f"message {res.message!r}" if res.message_ok else f"message not recovered ({res.reason})"))
+            return self.finish(context, result, "INFO", msg)
+        return self.finish(context, result, "WARNING",
+                           f"meshmark: watermark NOT detected in '{obj.name}': NC {res.nc:.3f}, CDR {res.cdr:.3f}, "
+                           f"P(false alarm) {res.p_false_alarm:.2g}")
+
+
+# ---------------------------------------------------------------------------------------------
+def capacity_of(obj, method: str, params: dict) -> dict:
+    mesh = bridge.base_mesh(obj)
+    cap = wm_capacity(mesh, method=method, **params)
+    fit = max(0, min(cap - OVERHEAD_BITS, 255))
+    return {"ok": True, "object": obj.name, "method": method, "n_vertices": mesh.n_vertices,
+            "params": METHODS[method].resolve(mesh, params), "capacity": cap,
+            "max_message_bits": fit, "max_text_bytes": fit // 8}
+
+
+def capacity_signature(obj, method, params):
+    me = obj.data
+    return (me.name, len(me.vertices), len(me.polygons), method, json.dumps(params, sort_keys=True))
+
+
+class MESHMARK_OT_capacity(_Base, bpy.types.Operator):
+    """How many carrier bits the active mesh offers to the method, and how long a message fits"""
+    bl_idname = "meshmark.capacity"
+    bl_label = "Capacity"
+
+    method: _method_arg()
+
+    def run(self, context):
+        obj = bridge.active_mesh_object(context)
+        method = self.arg(context, "method")
+        params = self.method_params(context, method)
+        d = capacity_of(obj, method, params)
+        CAPACITY_CACHE[obj.name] = (capacity_signature(obj, method, params), d)
+        return self.finish(context, d, "INFO",
+                           f"meshmark: '{obj.name}' offers {d['capacity']} carrier bits to the {method} method: "
+                           f"up to {d['max_text_bytes']} text bytes ({d['max_message_bits']} bits)")
+
+
+# ---------------------------------------------------------------------------------------------
+class MESHMARK_OT_deformation_study(_Base, bpy.types.Operator):
+    """Verify the mark at every n-th frame of a range; write a CSV, a plot and a summary"""
+    bl_idname = "meshmark.deformation_study"
+    bl_label = "Deformation study"
+
+    keyfile: StringProperty(name="Keyfile", options={"SKIP_SAVE"}, subtype="FILE_PATH")
+    frame_start: IntProperty(name="Start", options={"SKIP_SAVE"})
+    frame_end: IntProperty(name="End", options={"SKIP_SAVE"})
+    frame_step: IntProperty(name="Step", min=1, default=1, options={"SKIP_SAVE"})
+    output_dir: StringProperty(name="Output", options={"SKIP_SAVE"}, subtype="DIR_PATH")
+
+    def run(self, context):
+        obj = bridge.active_mesh_object(context)
+        keyfile = _abspath(self.arg(context, "keyfile"))
+        if not keyfile:
+            raise MeshError("no keyfile: give keyfile='/path/k.json' or choose one in the panel")
+        kf = load_keyfile(keyfile)
+        start, end, step = (self.arg(context, n) for n in ("frame_start", "frame_end", "frame_step"))
+        if end < start or step < 1:
+            raise MeshError(f"empty frame range {start}..{end} step {step}")
+        out = _abspath(self.arg(context, "output_dir"))
+        if not out:
+            raise MeshError("choose an output directory for the study (output_dir=...)")
+        scene = context.scene
+        rest = bridge.base_mesh(obj)
+        diag = max(bridge.bbox_diagonal(rest.V), 1e-300)
+        frames = list(range(start, end + 1, step))
+        rows, old = [], scene.frame_current
+        wm = context.window_manager
+        wm.progress_begin(0, len(frames))
+        try:
+            for i, f in enumerate(frames):
+                scene.frame_set(f)
+                m = bridge.evaluated_mesh(context, obj)
+                disp = (float(np.linalg.norm(m.V - rest.V, axis=1).max()) / diag
+                        if m.n_vertices == rest.n_vertices else math.nan)  # Blender's vertex order
+                r = wm_extract(bridge.match_keyfile(m, kf.mesh.get("n_vertices"))[0], keyfile=kf)
+                rows.append({"frame": f, "nc": r.nc, "cdr": r.cdr, "matches": r.matches, "bits": r.n_bits,
+                             "detected": r.detected, "message_ok": r.message_ok, "message": r.message,
+                             "max_disp_rel": disp})
+                wm.progress_update(i + 1)
+        finally:
+            scene.frame_set(old)
+            wm.progress_end()
+        stem = f"meshmark_study_{bpy.path.clean_name(obj.name)}"
+        csv_path, png_path = study.output_paths(out, stem)
+        study.write_csv(rows, csv_path)
+        why = study.write_plot(rows, png_path, f"{obj.name}: {kf.method} watermark, frames {start}-{end}")
+        s = study.summarize(rows)
+        result = {"ok": True, "object": obj.name, "keyfile": keyfile, "csv": csv_path,
+                  "plot": None if why else png_path, "summary": s, "rows": rows}
+        if why:
+            self.report({"WARNING"}, f"meshmark: {why}")
+        level = "INFO" if s["detected_frames"] == s["frames"] else "WARNING"
+        return self.finish(context, result, level,
+                           f"meshmark: {s['detected_frames']}/{s['frames']} frames detected, message on "
+                           f"{s['message_frames']}, mean CDR {s['mean_cdr']:.3f}, min NC {s['min_nc']:.3f}, "
+                           f"max displacement {100 * s['max_disp_rel']:.1f}% of the diagonal; {csv_path}")
+
+
+# ---------------------------------------------------------------------------------------------
+class MESHMARK_OT_save_keyfile(_Base, bpy.types.Operator):
+    """Save the keyfile of the last Embed of this session where you choose"""
+    bl_idname = "meshmark.save_keyfile"
+    bl_label = "Save keyfile"
+    bl_options = {"REGISTER"}
+
+    filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
+    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+
+    def invoke(self, context, event):
+        self.filepath = "keyfile.json"
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def run(self, context):
+        kf = LAST["keyfile"]
+        if kf is None:
+            src = _abspath(context.scene.meshmark.keyfile)
+            if not src or not os.path.isfile(src):
+                raise MeshError("no keyfile to save: embed a watermark first")
+            kf = load_keyfile(src)
+        path = _abspath(self.filepath)
+        if not path:
+            raise MeshError("choose a file name for the keyfile")
+        save_keyfile(kf, path)
+        context.scene.meshmark.keyfile = path
+        return self.finish(context, {"ok": True, "keyfile": path}, "INFO", f"meshmark: keyfile saved to {path}")
+
+
+class MESHMARK_OT_load_keyfile(_Base, bpy.types.Operator):
+    """Load a keyfile: Verify and the deformation study will use it; the panel shows its settings"""
+    bl_idname = "meshmark.load_keyfile"
+    bl_label = "Load keyfile"
+    bl_options = {"REGISTER"}
+
+    filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
+    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+
+    def invoke(self, context, event):
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def run(self, context):
+        path = _abspath(self.filepath)
+        kf = load_keyfile(path)  # validates before anything is set
+        s = context.scene.meshmark
+        s.keyfile, s.method, s.key = path, kf.method, kf.key
+        pl = Payload.from_bits(kf.payload["bits"])
+        text = Payload(kf.payload["kind"], pl.data).message()
+        if kf.payload["kind"] == "text":
+            s.message = text
+        group = getattr(s.params, kf.method)
+        for p in _params.method_params(kf.method):
+            v = kf.params.get(p.name)
+            if v is not None:
+                setattr(group, p.name, v)
+        return self.finish(context, {"ok": True, "keyfile": path, "method": kf.method, "message": text,
+                                     "params": kf.params, "mesh": kf.mesh}, "INFO",
+                           f"meshmark: loaded keyfile {path} ({kf.method}, message {text!r})")
+
+
+classes = (MESHMARK_OT_embed, MESHMARK_OT_verify, MESHMARK_OT_capacity, MESHMARK_OT_deformation_study,
+           MESHMARK_OT_save_keyfile, MESHMARK_OT_load_keyfile)
+
+
+def register():
+    for c in (MESHMARK_OT_embed, MESHMARK_OT_capacity):
+        _add_method_params(c)
+    for c in classes:
+        bpy.utils.register_class(c)
+
+
+def unregister():
+    for c in reversed(classes):
+        bpy.utils.unregister_class(c)
+    LAST["keyfile"] = None
+    CAPACITY_CACHE.clear()

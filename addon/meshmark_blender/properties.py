@@ -1,0 +1,92 @@
+"""``scene.meshmark``: the settings shown in the sidebar and used as the operators' defaults.
+
+Method parameters live in one sub-group per method (``scene.meshmark.params.laplacian.K`` ...),
+generated from the method's defaults (:mod:`.params`), so a method registered in
+``meshmark.watermark.METHODS`` gets its panel fields with thesis defaults automatically.
+"""
+from __future__ import annotations
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
+from bpy.types import PropertyGroup
+
+from meshmark.watermark import METHODS
+
+from . import params as _params
+
+_ENUM_ITEMS = []  # keep the strings alive (Blender does not copy dynamic enum items)
+
+
+def method_items(self, context):
+    _ENUM_ITEMS[:] = [(name, name.capitalize(), f"The {name} watermark") for name in METHODS]
+    return _ENUM_ITEMS
+
+
+def blender_property(p: _params.Param, **extra):
+    """A bpy property for a method parameter (``p``: :class:`params.Param`)."""
+    kw = dict(name=p.label, description=p.description, default=p.default, **extra)
+    if p.kind == "bool":
+        return BoolProperty(**kw)
+    if p.kind == "int":
+        return IntProperty(min=0, **kw)
+    if p.kind == "float":
+        return FloatProperty(min=0.0, precision=6, **kw)
+    return StringProperty(**kw)
+
+
+_classes = []
+
+
+def _build_classes():
+    """One PropertyGroup per method, one holding them all, and the settings group."""
+    method_groups = {}
+    for name in METHODS:
+        ann = {p.name: blender_property(p) for p in _params.method_params(name)}
+        method_groups[name] = type(f"MESHMARK_PG_params_{name}", (PropertyGroup,), {"__annotations__": ann})
+    all_params = type("MESHMARK_PG_params", (PropertyGroup,),
+                      {"__annotations__": {n: PointerProperty(type=c) for n, c in method_groups.items()}})
+    settings = type("MESHMARK_PG_settings", (PropertyGroup,), {
+        "__doc__": "meshmark settings of the scene (scene.meshmark)",
+        "__annotations__": {
+            "method": EnumProperty(name="Method", description="Watermarking method", items=method_items),
+            "message": StringProperty(name="Message", description="Text to hide (UTF-8, at most 31 bytes)",
+                                      default="meshmark"),
+            "key": StringProperty(name="Key", description="Secret key (stored in the keyfile, not in the mesh)",
+                                  default="", subtype="PASSWORD"),
+            "keyfile": StringProperty(name="Keyfile", description="Keyfile written by Embed and read by Verify "
+                                      "(JSON; keep it outside the .blend)", default="", subtype="FILE_PATH"),
+            "params": PointerProperty(type=all_params),
+            "evaluated": BoolProperty(name="Deformed", default=True,
+                                      description="Verify the evaluated mesh (armature, shape keys, modifiers) "
+                                                  "instead of the base mesh"),
+            "frame_start": IntProperty(name="Start", default=1, description="First frame of the study"),
+            "frame_end": IntProperty(name="End", default=48, description="Last frame of the study"),
+            "frame_step": IntProperty(name="Step", default=1, min=1, description="Evaluate every n-th frame"),
+            "output_dir": StringProperty(name="Output", default="", subtype="DIR_PATH",
+                                         description="Directory for the study's CSV and plot"),
+            "last_result": StringProperty(name="Last result", default="",
+                                          description="JSON result of the last meshmark operator"),
+        },
+    })
+    return [*method_groups.values(), all_params, settings]
+
+
+def method_settings(settings, method: str) -> dict:
+    """The method's parameters from ``scene.meshmark`` (None where 'automatic')."""
+    group = getattr(settings.params, method)
+    return {p.name: p.to_method(getattr(group, p.name)) for p in _params.method_params(method)}
+
+
+def register():
+    _classes[:] = _build_classes()
+    for c in _classes:
+        bpy.utils.register_class(c)
+    bpy.types.Scene.meshmark = PointerProperty(type=_classes[-1])
+
+
+def unregister():
+    if hasattr(bpy.types.Scene, "meshmark"):
+        del bpy.types.Scene.meshmark
+    for c in reversed(_classes):
+        bpy.utils.unregister_class(c)
+    _classes.clear()

@@ -1,0 +1,75 @@
+"""Time of the add-on's embed and verify operators against the native calls they wrap, on a mesh of
+>= 100k vertices (a jittered 128 x 800 tube, 102,402 vertices), in the same process.
+
+    PYTHONPATH=src python bench/blender_operators.py [--repeat 3]
+
+Prints, for each operator, the best-of-N wall time of the operator, of the meshmark call on numpy
+arrays, and the difference (the add-on's overhead: reading/writing Blender data with foreach_get/
+foreach_set, the float32 check after embedding, JSON). Target: overhead <= 1 s each.
+"""
+import argparse
+import os
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "addon"))
+sys.path.insert(0, os.path.join(ROOT, "blender_tests"))
+
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+
+import meshmark_blender  # noqa: E402
+import rigs  # noqa: E402
+from meshmark.shapes import cylinder  # noqa: E402
+from meshmark.watermark import embed, extract  # noqa: E402
+
+
+def best(f, n):
+    ts = []
+    for _ in range(n):
+        t = time.perf_counter()
+        f()
+        ts.append(time.perf_counter() - t)
+    return min(ts)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--repeat", type=int, default=3)
+    a = ap.parse_args()
+    meshmark_blender.register()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    m = cylinder(segments=128, rings=800)
+    h = 2 * np.pi * 0.15 / 128
+    m = m.with_vertices(m.V + np.random.default_rng(0).uniform(-0.25, 0.25, m.V.shape) * h)
+    obj = rigs.mesh_object("Tube", mesh=m)
+    V0 = rigs.base_coords(obj).copy()
+    base = m.with_vertices(V0.astype(np.float64))
+    kf = os.path.join(tempfile.mkdtemp(), "k.json")
+    kw = dict(message="mark", key="k")
+
+    def op_embed():
+        obj.data.vertices.foreach_set("co", V0.ravel())
+        rigs.select_only(obj)
+        bpy.ops.meshmark.embed(keyfile=kf, **kw)
+
+    t_op_e = best(op_embed, a.repeat)
+    inner_e = rigs.last_result()["seconds_native"]  # the meshmark.embed call inside the last operator run
+    t_nat_e = best(lambda: embed(base, payload=kw["message"], key=kw["key"]), a.repeat)
+    t_op_v = best(lambda: bpy.ops.meshmark.verify(keyfile=kf, evaluated=True), a.repeat)
+    t_op_vb = best(lambda: bpy.ops.meshmark.verify(keyfile=kf, evaluated=False), a.repeat)
+    marked = m.with_vertices(rigs.base_coords(obj).astype(np.float64))
+    t_nat_v = best(lambda: extract(marked, keyfile=kf), a.repeat)
+    r = rigs.last_result()
+    print(f"mesh: {m.n_vertices:,} vertices, {m.n_faces:,} faces; capacity {r['bits']} bits, CDR {r['cdr']:.3f}")
+    print(f"embed: meshmark.embed inside the operator took {inner_e:.3f}s of its run")
+    print(f"{'':24}{'operator':>10}{'native':>10}{'overhead':>10}")
+    for name, op, nat in (("embed", t_op_e, t_nat_e), ("verify (evaluated)", t_op_v, t_nat_v),
+                          ("verify (base mesh)", t_op_vb, t_nat_v)):
+        print(f"{name:24}{op:9.3f}s{nat:9.3f}s{op - nat:9.3f}s")
+
+
+if __name__ == "__main__":
+    main()

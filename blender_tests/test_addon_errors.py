@@ -1,0 +1,169 @@
+"""(5) Bad input: every failure is an error report (bpy.ops raises RuntimeError for an ERROR report
+when called from Python), {'CANCELLED'}, an error in last_result, and bit-identical coordinates."""
+import json
+
+import bpy
+import numpy as np
+import pytest
+
+import meshmark
+from blender_tests import rigs
+from blender_tests.rigs import last_result
+
+
+def _coords(obj):
+    return rigs.base_coords(obj).copy()
+
+
+def _fails(op, match, **kw):
+    with pytest.raises(RuntimeError, match=match):
+        op(**kw)
+    r = last_result()
+    assert r["ok"] is False and r["error"]
+    return r["error"]
+
+
+@pytest.fixture
+def elephant(addon, tmp_path):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    obj = rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
+    return obj
+
+
+def test_active_object_not_a_mesh(elephant, tmp_path):
+    V0 = _coords(elephant)
+    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
+    bpy.context.scene.collection.objects.link(cam)
+    rigs.select_only(cam)
+    _fails(bpy.ops.meshmark.embed, "is a camera, not a mesh", message="x", key="k", keyfile=str(tmp_path / "k.json"))
+    _fails(bpy.ops.meshmark.verify, "not a mesh", keyfile=str(tmp_path / "k.json"))
+    _fails(bpy.ops.meshmark.capacity, "not a mesh")
+    assert np.array_equal(_coords(elephant), V0)
+    assert not (tmp_path / "k.json").exists()
+
+
+def test_no_object_selected(elephant, tmp_path):
+    V0 = _coords(elephant)
+    elephant.select_set(False)
+    bpy.context.view_layer.objects.active = None
+    _fails(bpy.ops.meshmark.embed, "no active object", message="x", key="k", keyfile=str(tmp_path / "k.json"))
+    _fails(bpy.ops.meshmark.deformation_study, "no active object", keyfile=str(tmp_path / "k.json"),
+           output_dir=str(tmp_path))
+    assert np.array_equal(_coords(elephant), V0)
+
+
+def test_mesh_too_small(addon, tmp_path):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.mesh.primitive_cube_add()
+    cube = bpy.context.active_object
+    V0 = _coords(cube)
+    _fails(bpy.ops.meshmark.embed, "too small", message="x", key="k", keyfile=str(tmp_path / "k.json"))
+    bpy.ops.mesh.primitive_uv_sphere_add()
+    sphere = bpy.context.active_object
+    S0 = _coords(sphere)
+    _fails(bpy.ops.meshmark.embed, "offers only", message="x", key="k", keyfile=str(tmp_path / "k.json"))
+    assert np.array_equal(_coords(cube), V0) and np.array_equal(_coords(sphere), S0)
+
+
+def test_message_longer_than_capacity(elephant, tmp_path):
+    V0 = _coords(elephant)
+    err = _fails(bpy.ops.meshmark.embed, "can carry 44 bits", message="ACME 2024", key="k",
+                 keyfile=str(tmp_path / "k.json"))
+    assert "needs 88 bits" in err
+    _fails(bpy.ops.meshmark.embed, "at most 31 bytes", message="x" * 40, key="k", keyfile=str(tmp_path / "k.json"))
+    _fails(bpy.ops.meshmark.embed, "message is empty", message="", key="k", keyfile=str(tmp_path / "k.json"))
+    _fails(bpy.ops.meshmark.embed, "key is empty", message="E", key="", keyfile=str(tmp_path / "k.json"))
+    _fails(bpy.ops.meshmark.embed, "directory does not exist", message="E", key="k",
+           keyfile=str(tmp_path / "missing" / "k.json"))
+    assert np.array_equal(_coords(elephant), V0)
+    assert not (tmp_path / "k.json").exists()
+
+
+def test_edit_mode_is_refused(elephant, tmp_path):
+    V0 = _coords(elephant)
+    bpy.ops.object.mode_set(mode="EDIT")
+    _fails(bpy.ops.meshmark.embed, "Edit Mode", message="E", key="k", keyfile=str(tmp_path / "k.json"))
+    bpy.ops.object.mode_set(mode="OBJECT")
+    assert np.array_equal(_coords(elephant), V0)
+
+
+def test_keyfile_wrong_or_corrupt(elephant, tmp_path):
+    kf = tmp_path / "k.json"
+    assert bpy.ops.meshmark.embed(message="E", key="k", keyfile=str(kf)) == {"FINISHED"}
+    V1 = _coords(elephant)
+    _fails(bpy.ops.meshmark.verify, "cannot read keyfile", keyfile=str(tmp_path / "none.json"))
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"format": "meshmark-keyfile", "version": 1, "meth')
+    _fails(bpy.ops.meshmark.verify, "not valid JSON", keyfile=str(bad))
+    d = json.loads(kf.read_text())
+    d["payload"]["bits"] = d["payload"]["bits"][::-1] + "1"
+    bad.write_text(json.dumps(d))
+    _fails(bpy.ops.meshmark.verify, "does not match", keyfile=str(bad))
+    bad.write_text(json.dumps({"hello": 1}))
+    _fails(bpy.ops.meshmark.deformation_study, "not a meshmark keyfile", keyfile=str(bad), output_dir=str(tmp_path))
+    _fails(bpy.ops.meshmark.load_keyfile, "not a meshmark keyfile", filepath=str(bad))
+    # a valid keyfile with the wrong key: no false "found"
+    assert bpy.ops.meshmark.verify(keyfile=str(kf), key="not-k") == {"FINISHED"}
+    assert last_result()["detected"] is False and last_result()["message"] is None
+    assert np.array_equal(_coords(elephant), V1)
+
+
+def test_verify_on_a_different_mesh(elephant, tmp_path):
+    kf = tmp_path / "k.json"
+    assert bpy.ops.meshmark.embed(message="E", key="k", keyfile=str(kf)) == {"FINISHED"}
+    arm = rigs.mesh_object("Arm", mesh=rigs.jittered_arm())
+    A0 = _coords(arm)
+    assert bpy.ops.meshmark.verify(keyfile=str(kf)) == {"FINISHED"}  # a warning, not an error: blind
+    r = last_result()
+    assert r["detected"] is False and not r["message_ok"] and r["p_false_alarm"] > 1e-6
+    assert "20482 vertices but the keyfile was made for 20007" in r["warnings"][0]
+    bpy.ops.object.shade_smooth()
+    assert np.array_equal(_coords(arm), A0)
+
+
+def test_embed_keeps_shape_key_offsets_uvs_groups_attributes(addon, tmp_path):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    obj = rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
+    me = obj.data
+    me.uv_layers.new(name="UV")
+    uv0 = np.random.default_rng(1).random(2 * len(me.loops)).astype(np.float32)
+    me.uv_layers[0].data.foreach_set("uv", uv0)
+    g = obj.vertex_groups.new(name="half")
+    g.add(list(range(0, len(me.vertices), 2)), 0.5, "REPLACE")
+    attr = me.attributes.new("heat", "FLOAT", "POINT")
+    attr.data.foreach_set("value", np.arange(len(me.vertices), dtype=np.float32))
+    obj.modifiers.new("sub", "SUBSURF")
+    obj.shape_key_add(name="Basis")
+    key = obj.shape_key_add(name="Fat")
+    base0 = rigs.base_coords(obj).astype(np.float64)
+    fat = np.empty(3 * len(me.vertices), np.float32)
+    key.data.foreach_get("co", fat)
+    fat = fat.reshape(-1, 3) + np.float32(0.01)
+    key.data.foreach_set("co", fat.ravel())
+    kf = str(tmp_path / "k.json")
+    assert bpy.ops.meshmark.embed(message="E", key="k", keyfile=kf) == {"FINISHED"}
+    basis = np.empty(3 * len(me.vertices), np.float32)
+    me.shape_keys.key_blocks["Basis"].data.foreach_get("co", basis)
+    fat1 = np.empty(3 * len(me.vertices), np.float32)
+    key.data.foreach_get("co", fat1)
+    D = basis.reshape(-1, 3) - base0
+    assert np.abs(D).max() > 0  # the Basis moved ...
+    np.testing.assert_allclose(fat1.reshape(-1, 3) - basis.reshape(-1, 3), fat - base0, atol=1e-6)  # offsets kept
+    uv1 = np.empty_like(uv0)
+    me.uv_layers[0].data.foreach_get("uv", uv1)
+    assert np.array_equal(uv0, uv1)
+    assert sum(1 for v in me.vertices if v.groups) == (len(me.vertices) + 1) // 2
+    h = np.empty(len(me.vertices), np.float32)
+    me.attributes["heat"].data.foreach_get("value", h)
+    assert np.array_equal(h, np.arange(len(me.vertices), dtype=np.float32))
+    assert bpy.ops.meshmark.verify(keyfile=kf, evaluated=False) == {"FINISHED"}
+    assert last_result()["cdr"] == 1.0 and last_result()["message"] == "E"
+    key.value = 1.0  # the Fat key (a uniform offset) does not hide the mark
+    bpy.context.view_layer.update()
+    obj.modifiers["sub"].show_viewport = False
+    assert bpy.ops.meshmark.verify(keyfile=kf, evaluated=True) == {"FINISHED"}
+    assert last_result()["cdr"] == 1.0
+    # Undo cannot be exercised here: the bpy module has no window, so ed.undo never polls. The
+    # operators carry bl_options {'REGISTER', 'UNDO'}, and embed writes all coordinates in one execute.
+    assert not bpy.ops.ed.undo.poll()
+    assert "UNDO" in bpy.types.MESHMARK_OT_embed.bl_options
