@@ -7,5 +7,6 @@ namespace meshmark::python {
 void bind_mesh(pybind11::module_& m);  // validation, topology, geometry, PCA, info (bind_mesh.cpp)
 void bind_io(pybind11::module_& m);    // read_mesh / write_mesh (bind_io.cpp)
 void bind_laplacian(pybind11::module_& m);  // ch. 7 Laplacian-coordinate watermark (bind_laplacian.cpp)
+void bind_radial(pybind11::module_& m);     // ch. 6 Cho / Yang radial watermarks, §6.4 steganalyzer (bind_radial.cpp)
 
 }  // namespace meshmark::python

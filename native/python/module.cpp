@@ -11,4 +11,5 @@ PYBIND11_MODULE(_core, m) {
   meshmark::python::bind_mesh(m);
   meshmark::python::bind_io(m);
   meshmark::python::bind_laplacian(m);
+  meshmark::python::bind_radial(m);
 }
