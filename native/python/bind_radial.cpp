@@ -10,6 +10,8 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+
 namespace py = pybind11;
 
 namespace meshmark::python {
@@ -78,6 +80,7 @@ void bind_radial(py::module_& m) {
           d["center_drift"] = r.drift;
           d["center_iters"] = r.iterations;
           d["n_moved"] = r.n_moved;
+          d["search_evaluations"] = r.evaluations;
           return d;
         }, py::arg("V"), py::arg("mask"), py::arg("K"), py::arg("bins"), py::arg("bits"),
         py::arg("method") = "mean", py::arg("alpha") = 0.04, py::arg("delta_k") = 0.001, py::arg("k_max") = 100.0,
@@ -101,22 +104,24 @@ void bind_radial(py::module_& m) {
           return py::make_tuple(std::move(h.bin), std::move(h.counts), h.rho_min, h.rho_max);
         }, py::arg("rho"), py::arg("K"), py::arg("mask"));
 
-  m.def("radial_embed", [](VRef V, MRef mask, int K, std::vector<int> pairs, std::vector<int> bits, int n_thr,
-                           const std::string& mode, int origin_iters) {
+  m.def("radial_embed", [](VRef V, MRef mask, int K, std::optional<std::vector<int>> pairs, std::vector<int> bits,
+                           int n_thr, const std::string& mode, int origin_iters) {
           check_mask(V, mask);
           RadialEmbedOptions o;
+          o.first_embeddable = !pairs.has_value();  // None: the i-th embeddable pair takes bit i
           o.n_thr = n_thr;
           o.origin_mode = origin_mode(mode);
           o.origin_iters = origin_iters;
           RadialEmbedResult r;
           {
             py::gil_scoped_release release;
-            r = radial_embed(V, mask, K, pairs, bits, o);
+            r = radial_embed(V, mask, K, pairs.value_or(std::vector<int>{}), bits, o);
           }
           py::dict d;
           d["V"] = std::move(r.V);
           d["origin"] = r.origin;
           d["n_mov"] = r.n_mov;
+          d["pairs"] = r.pairs;
           d["n_moved"] = r.n_moved;
           d["origin_drift"] = r.drift;
           d["origin_iters"] = r.iterations;

@@ -65,15 +65,16 @@ Eigen::VectorXd cho_statistics(const ChoBins& bins, ChoMethod method) {
 
 namespace {
 
-// Histogram mapping (Cho step 4, Figs. 2.4-2.5) of one normalised value with exponent k.
-double cho_map(double x, double k, ChoMethod method, double guard) {
+// Histogram mapping (Cho step 4, Figs. 2.4-2.5) of one normalised value x with exponent k, given
+// l = ln x (mean) or ln|2x-1| (variance): x' = x^k, or 2x'-1 = sgn(y)|y|^k with y = 2x-1.
+double cho_map(double x, double l, double k, ChoMethod method, double guard) {
+  const double a = l == -std::numeric_limits<double>::infinity() ? 0.0 : std::exp(k * l);  // x^k or |y|^k
   double xm;
   if (method == ChoMethod::Mean) {
-    xm = std::pow(x, k);  // x' = x^k
+    xm = a;
   } else {
-    const double y = 2 * x - 1;  // [0,1] -> [-1,1]
-    const double yk = std::pow(std::abs(y), k);
-    xm = std::min(std::max(0.5 * ((y < 0 ? -yk : (y > 0 ? yk : 0.0)) + 1), 0.0), 1.0);  // y' = sgn(y)|y|^k
+    const double y = 2 * x - 1;
+    xm = std::min(std::max(0.5 * ((y < 0 ? -a : (y > 0 ? a : 0.0)) + 1), 0.0), 1.0);
   }
   if (guard > 0 && k != 1.0) xm = std::min(std::max(xm, guard), 1 - guard);
   return xm;
@@ -116,6 +117,7 @@ double bin_stat(const double* l, int n, double k, ChoMethod method, double guard
 
 struct OnceResult {
   MatrixX3dR V;
+  int evaluations = 0;
   Eigen::VectorXd k;
   std::vector<int> failed;
   int n_moved = 0;
@@ -132,12 +134,13 @@ OnceResult embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<co
   for (Eigen::Index i = 0; i < n; ++i)
     if (b.bin[i] >= 0) ++start[b.bin[i] + 1];
   for (int k = 0; k < K; ++k) start[k + 1] += start[k];
-  std::vector<Index> fill(start.begin(), start.end() - 1);
+  std::vector<Index> fill(start.begin(), start.end() - 1), member(start[K]);
   std::vector<double> l(start[K]);
   for (Eigen::Index i = 0; i < n; ++i) {
     const int k = b.bin[i];
     if (k < 0) continue;
     const double x = b.x[i];
+    member[fill[k]] = static_cast<Index>(i);
     l[fill[k]++] = std::log(o.method == ChoMethod::Mean ? x : std::abs(2 * x - 1));
   }
   const double ref = o.method == ChoMethod::Mean ? 0.5 : 1.0 / 3.0;
@@ -154,6 +157,7 @@ OnceResult embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<co
     auto k_of = [&](long m) { return w > 0 ? 1.0 - m * o.delta_k : 1.0 + m * o.delta_k; };
     // h(m) >= 0  <=>  the condition of Cho step 4 holds; h increases with m
     auto h = [&](long m, double& dhdm) {
+      ++out.evaluations;
       double dsdk = 0;
       const double s = cnt ? bin_stat(lb, cnt, k_of(m), o.method, o.guard, dsdk) : 0.0;
       dhdm = -dsdk * o.delta_k;  // w=+1: h = S - t, dk/dm = -dk;  w=-1: h = t - S, dk/dm = +dk
@@ -162,14 +166,14 @@ OnceResult embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<co
     double d0, dhi;
     const double h0 = h(0, d0);
     if (h0 >= 0 && cnt > 0) continue;  // already on the right side: k = 1, bin untouched
-    const double hhi = h(m_hi, dhi);
-    if (cnt == 0 || hhi < 0) {
+    if (cnt == 0) {
       out.failed.push_back(bin);
       out.k[bin] = h0 >= 0 ? 1.0 : k_of(m_hi);
       continue;
     }
     // The first step m with h(m) >= 0 (= the sequential search of Cho step 4), found by a
-    // safeguarded Newton iteration on integer m inside the bracket h(lo) < 0 <= h(hi).
+    // safeguarded Newton iteration on integer m inside the bracket h(lo) < 0 <= h(hi); h(m_hi) is
+    // only evaluated when no smaller step satisfies the condition.
     long lo = 0, hi = m_hi;
     double guess = d0 > 0 ? -h0 / d0 : 0.5 * (lo + hi);
     for (int it = 0; hi - lo > 1; ++it) {
@@ -181,15 +185,19 @@ OnceResult embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<co
       else lo = cand;
       guess = dh > 0 ? cand - hc / dh : 0.5 * (lo + hi);
     }
+    if (hi == m_hi && h(m_hi, dhi) < 0) out.failed.push_back(bin);  // the limit k = dk or k_max is not enough
     out.k[bin] = k_of(hi);
   }
   // Cho step 5: map, denormalise with the same bin range, move radially (theta, phi kept).
   Eigen::VectorXd rho_new = rho;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const int k = b.bin[i];
-    if (k < 0 || out.k[k] == 1.0) continue;
-    rho_new[i] = b.rho_min + b.width * (k + cho_map(b.x[i], out.k[k], o.method, o.guard));
-    out.n_moved += rho_new[i] != rho[i];
+  for (int k = 0; k < K; ++k) {
+    if (out.k[k] == 1.0) continue;
+    const double kk = out.k[k];
+    for (Index j = start[k]; j < start[k + 1]; ++j) {
+      const Index i = member[j];
+      rho_new[i] = b.rho_min + b.width * (k + cho_map(b.x[i], l[j], kk, o.method, o.guard));
+      out.n_moved += rho_new[i] != rho[i];
+    }
   }
   out.V = radial_rescale(V, c, rho, rho_new);
   return out;
@@ -219,6 +227,7 @@ ChoEmbedResult cho_embed(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref
     best.k = r.k;
     best.failed = r.failed;
     best.n_moved = r.n_moved;
+    best.evaluations = r.evaluations;
     best.center = c;
     best.drift = drift;
   };

@@ -14,30 +14,38 @@ namespace meshmark {
 RadialOrigin radial_origin(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask,
                            RadialOriginMode mode) {
   if (mask.size() != V.rows()) throw MeshError("mask and V differ in length");
-  std::vector<Eigen::Index> rows;
-  rows.reserve(V.rows());
-  for (Eigen::Index i = 0; i < V.rows(); ++i)
-    if (mask[i]) rows.push_back(i);
-  if (rows.size() < 2) throw MeshError("the radial origin needs at least 2 (referenced) vertices");
-  MatrixX3dR P(rows.size(), 3);
-  for (size_t r = 0; r < rows.size(); ++r) P.row(r) = V.row(rows[r]);
+  Eigen::Index count = 0;
+  for (Eigen::Index i = 0; i < V.rows(); ++i) count += mask[i] != 0;
+  if (count < 2) throw MeshError("the radial origin needs at least 2 (referenced) vertices");
+  MatrixX3dR copy;
+  if (count < V.rows()) {  // the masked vertices only
+    copy.resize(count, 3);
+    for (Eigen::Index i = 0, r = 0; i < V.rows(); ++i)
+      if (mask[i]) copy.row(r++) = V.row(i);
+  }
+  const Eigen::Ref<const MatrixX3dR> P = count < V.rows() ? Eigen::Ref<const MatrixX3dR>(copy) : V;
   const PCA pc = pca(P);  // sign rule: positive third central moment (docs/mesh_model.md)
   const Eigen::Vector3d u = pc.axes.col(0);
   const Eigen::Index n = P.rows(), h = n / 2;
-  std::vector<std::pair<double, Eigen::Index>> p(n);
-  for (Eigen::Index i = 0; i < n; ++i) p[i] = {(P.row(i).transpose() - pc.centroid).dot(u), i};
-  // the right-most half: the floor(N/2) largest projections (the median vertex is left out when N is odd)
-  std::nth_element(p.begin(), p.begin() + (n - h), p.end());
+  std::vector<double> p(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    p[i] = (P(i, 0) - pc.centroid[0]) * u[0] + (P(i, 1) - pc.centroid[1]) * u[1] + (P(i, 2) - pc.centroid[2]) * u[2];
   RadialOrigin o;
   o.axis = u;
   o.skewness = pc.eigenvalues[0] > 0 ? pc.skewness[0] / std::pow(pc.eigenvalues[0], 1.5) : 0.0;
+  // the right-most half: the floor(N/2) largest projections (the median vertex is left out when N is odd)
   if (mode == RadialOriginMode::Axis) {
+    std::nth_element(p.begin(), p.begin() + (n - h), p.end());  // ties at the cut are interchangeable
     double s = 0;
-    for (Eigen::Index i = n - h; i < n; ++i) s += p[i].first;
+    for (Eigen::Index i = n - h; i < n; ++i) s += p[i];
     o.origin = pc.centroid + (s / h) * u;
   } else {
+    std::vector<Eigen::Index> idx(n);
+    std::iota(idx.begin(), idx.end(), Eigen::Index(0));
+    std::nth_element(idx.begin(), idx.begin() + (n - h), idx.end(),
+                     [&](Eigen::Index a, Eigen::Index b) { return p[a] < p[b] || (p[a] == p[b] && a < b); });
     Eigen::Vector3d s = Eigen::Vector3d::Zero();
-    for (Eigen::Index i = n - h; i < n; ++i) s += P.row(p[i].second).transpose();
+    for (Eigen::Index i = n - h; i < n; ++i) s += P.row(idx[i]).transpose();
     o.origin = s / static_cast<double>(h);
   }
   return o;
@@ -82,14 +90,26 @@ namespace {
 
 struct Once {
   MatrixX3dR V;
-  std::vector<int> n_mov;
+  std::vector<int> pairs, n_mov;
   int n_moved = 0;
 };
 
 Once embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask, int K,
-                const std::vector<int>& pairs, const std::vector<int>& bits, int T, const Eigen::Vector3d& o) {
+                const std::vector<int>& pairs_in, const std::vector<int>& bits, int T, const Eigen::Vector3d& o,
+                bool first_embeddable) {
   const Eigen::VectorXd rho = radial_distances(V, mask, o);  // eq. 6.1.1
   const RadialHistogram h = radial_histogram(rho, K, mask);  // eqs. 6.1.2-6.1.3
+  Once out;
+  out.pairs = pairs_in;
+  if (first_embeddable) {  // the thesis' placement: bit i in the i-th embeddable pair (eq. 6.1.4)
+    out.pairs.clear();
+    for (int j = 0; j < h.n_pairs() && out.pairs.size() < bits.size(); ++j)
+      if (h.counts[2 * j + 1] + h.counts[2 * j + 2] >= 1) out.pairs.push_back(j);
+    if (out.pairs.size() < bits.size())
+      throw MeshError("the mesh offers " + std::to_string(out.pairs.size()) + " embeddable pairs with K=" +
+                      std::to_string(K) + "; " + std::to_string(bits.size()) + " bits do not fit");
+  }
+  const std::vector<int>& pairs = out.pairs;
   const Eigen::Index n = rho.size();
   std::vector<Index> start(K + 1, 0);
   for (Eigen::Index i = 0; i < n; ++i)
@@ -100,7 +120,6 @@ Once embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
     if (h.bin[i] >= 0) member[fill[h.bin[i]]++] = static_cast<Index>(i);
   auto edge = [&](int k) { return h.rho_min + h.delta * k; };
 
-  Once out;
   Eigen::VectorXd rho_new = rho;
   for (size_t c = 0; c < pairs.size(); ++c) {
     const int a = 2 * pairs[c] + 1, b = a + 1, w = bits[c];  // B_k, B_k+1 (0-based)
@@ -134,8 +153,10 @@ Once embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
     // the n_mov largest radii of B_k (w = -1) or the n_mov smallest of B_k+1 (w = +1); ties by index
     const int from = w < 0 ? a : b;
     std::vector<Index> s(member.begin() + start[from], member.begin() + start[from + 1]);
-    std::sort(s.begin(), s.end(), [&](Index i, Index j) { return rho[i] < rho[j] || (rho[i] == rho[j] && i < j); });
+    auto less = [&](Index i, Index j) { return rho[i] < rho[j] || (rho[i] == rho[j] && i < j); };
     const size_t first = w < 0 ? s.size() - n_mov : 0;
+    if (w < 0 && first > 0) std::nth_element(s.begin(), s.begin() + first, s.end(), less);
+    if (w > 0 && static_cast<size_t>(n_mov) < s.size()) std::nth_element(s.begin(), s.begin() + n_mov, s.end(), less);
     for (size_t k = first; k < first + n_mov; ++k) rho_new[s[k]] = target;
     out.n_moved += n_mov;
   }
@@ -148,7 +169,7 @@ Once embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
 RadialEmbedResult radial_embed(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask, int K,
                                const std::vector<int>& pairs, const std::vector<int>& bits,
                                const RadialEmbedOptions& opt) {
-  if (pairs.size() != bits.size()) throw MeshError("pairs and bits differ in length");
+  if (!opt.first_embeddable && pairs.size() != bits.size()) throw MeshError("pairs and bits differ in length");
   if (K < 4) throw MeshError("the number of bins K must be at least 4, got " + std::to_string(K));
   for (size_t c = 0; c < pairs.size(); ++c) {
     if (pairs[c] < 0 || pairs[c] >= (K - 2) / 2)
@@ -157,25 +178,28 @@ RadialEmbedResult radial_embed(const Eigen::Ref<const MatrixX3dR>& V, const Eige
   }
   if (opt.n_thr < 1) throw MeshError("n_thr must be >= 1, got " + std::to_string(opt.n_thr));
   Eigen::Vector3d o = radial_origin(V, mask, opt.origin_mode).origin;
-  Once r = embed_once(V, mask, K, pairs, bits, opt.n_thr, o);
+  Once r = embed_once(V, mask, K, pairs, bits, opt.n_thr, o, opt.first_embeddable);
   RadialEmbedResult best;
-  best.drift = (radial_origin(r.V, mask, opt.origin_mode).origin - o).norm();
+  // the drift costs a PCA of the marked mesh: measured only when re-synchronising (else -1, unknown)
+  best.drift = opt.origin_iters > 0 ? (radial_origin(r.V, mask, opt.origin_mode).origin - o).norm() : -1.0;
   best.origin = o;
   best.V = r.V;
   best.n_mov = r.n_mov;
+  best.pairs = r.pairs;
   best.n_moved = r.n_moved;
   double drift = best.drift;
   int it = 0;
   // Re-synchronisation (docs/radial.md, not in the thesis); keeps the iterate with the smallest drift.
   for (; it < opt.origin_iters && drift > 0; ++it) {
     o = radial_origin(r.V, mask, opt.origin_mode).origin;
-    r = embed_once(V, mask, K, pairs, bits, opt.n_thr, o);
+    r = embed_once(V, mask, K, pairs, bits, opt.n_thr, o, opt.first_embeddable);
     drift = (radial_origin(r.V, mask, opt.origin_mode).origin - o).norm();
     if (drift < best.drift) {
       best.drift = drift;
       best.origin = o;
       best.V = r.V;
       best.n_mov = r.n_mov;
+      best.pairs = r.pairs;
       best.n_moved = r.n_moved;
     }
   }

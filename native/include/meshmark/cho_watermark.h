@@ -52,6 +52,7 @@ struct ChoEmbedResult {
   double drift = 0;         // || centroid(marked) - center ||
   int iterations = 0;       // re-synchronisation rounds run
   int n_moved = 0;          // vertices whose norm changed
+  int evaluations = 0;      // bin statistics evaluated by the k search (all bins, last embedding)
 };
 
 // Embeds bits[c] (+1 / -1) into bin bins_used[c] (Cho step 4-6). Bins not listed keep k = 1.

@@ -42,14 +42,16 @@ struct RadialEmbedOptions {
   int n_thr = 43;        // eq. 6.1.6 (Table 6.1)
   RadialOriginMode origin_mode = RadialOriginMode::Axis;
   int origin_iters = 0;  // > 0: re-embed about the marked mesh's origin until it agrees (not in the thesis)
+  bool first_embeddable = false;  // true: ignore `pairs`, bit i goes to the i-th embeddable pair (eq. 6.1.4)
 };
 
 struct RadialEmbedResult {
   MatrixX3dR V;
   Eigen::Vector3d origin;
+  std::vector<int> pairs;  // pairs used
   std::vector<int> n_mov;  // per used pair (eq. 6.1.7)
   int n_moved = 0;
-  double drift = 0;        // || origin(marked) - origin used ||
+  double drift = 0;        // || origin(marked) - origin used ||; -1 (not measured) when origin_iters == 0
   int iterations = 0;
 };
 

@@ -92,7 +92,10 @@ class _Radial:
         pm = np.where(np.asarray(bits) > 0, 1, -1)
         r = _core.radial_embed(mesh.V, _referenced(mesh), p["K"], [int(i) for i in ids], pm.tolist(), p["n_thr"],
                                p["origin_mode"], p["origin_iters"])
-        return r["V"], side, {"n_moved": int(r["n_moved"]), "origin_drift": float(r["origin_drift"])}
+        st = {"n_moved": int(r["n_moved"])}
+        if r["origin_drift"] >= 0:
+            st["origin_drift"] = float(r["origin_drift"])
+        return r["V"], side, st
 
     def extract(self, mesh: Mesh, p: dict, side: dict, ids):
         _, ca, cb = pair_counts(self.counts(mesh, p), p["K"])
@@ -145,16 +148,10 @@ def embed_bits(V, F=None, bits=None, K: int = 400, n_thr: int | None = None, ori
     if K < 4:
         raise MeshError(f"K must be at least 4 bins, got {K}")
     n_thr = default_n_thr(n, K) if n_thr is None else int(n_thr)
-    counts = _core.radial_counts(V, mask, int(K), origin_mode)[0]
-    _, ca, cb = pair_counts(counts, K)
-    emb = np.flatnonzero(ca + cb >= 1)  # eq. 6.1.4
-    if emb.size < b.size:
-        raise MeshError(f"the mesh offers {emb.size} embeddable pairs with K={K}; {b.size} bits do not fit")
-    pairs = emb[: b.size]
-    r = _core.radial_embed(V, mask, int(K), pairs.tolist(), (2 * b.astype(int) - 1).tolist(), n_thr, origin_mode,
+    r = _core.radial_embed(V, mask, int(K), None, (2 * b.astype(int) - 1).tolist(), n_thr, origin_mode,
                            int(origin_iters))
     V2 = r.pop("V")
-    r.update(pairs=pairs, n_thr=n_thr)
+    r.update(pairs=np.asarray(r["pairs"]), n_thr=n_thr)
     return V2, r
 
 
