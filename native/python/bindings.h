@@ -9,5 +9,6 @@ void bind_io(pybind11::module_& m);    // read_mesh / write_mesh (bind_io.cpp)
 void bind_laplacian(pybind11::module_& m);  // ch. 7 Laplacian-coordinate watermark (bind_laplacian.cpp)
 void bind_attacks(pybind11::module_& m);    // attacks: similarity, noise, smoothing, quantization, ... (bind_attacks.cpp)
 void bind_metrics(pybind11::module_& m);    // distortion metrics: RMSE, surface distance, normal degradation (bind_metrics.cpp)
+void bind_radial(pybind11::module_& m);     // ch. 6 Cho / Yang radial watermarks, §6.4 steganalyzer (bind_radial.cpp)
 
 }  // namespace meshmark::python

@@ -77,26 +77,42 @@ def info(mesh, as_json):
 
 
 # --- watermarking ---------------------------------------------------------------------------
-_METHOD_CHOICES = ["laplacian"]
+_METHOD_CHOICES = ["laplacian", "cho-mean", "cho-variance", "radial"]
 
 
 def _method_options(f):
-    """Parameters shared by embed and capacity (names as in the Python API; thesis defaults)."""
+    """Parameters shared by embed and capacity (names as in the Python API; thesis defaults).
+
+    Each method accepts only its own parameters (an option another method owns is an error)."""
+    f = click.option("--origin-iters", "origin_iters", type=int, default=None,
+                     help="radial: re-synchronisation rounds of the origin (default 0).")(f)
+    f = click.option("--origin-mode", "origin_mode", type=click.Choice(["axis", "vertices"]), default=None,
+                     help="radial: origin on the principal axis (default) or 3-D mean of the right-most half.")(f)
+    f = click.option("--center-iters", "center_iters", type=int, default=None,
+                     help="cho-*: re-synchronisation rounds of the centre (default 20; 0 with --thesis-exact).")(f)
+    f = click.option("--guard", type=float, default=None,
+                     help="cho-*: keep mapped values this far from the bin ends (default 0.005; 0 with --thesis-exact).")(f)
+    f = click.option("--delta-k", "delta_k", type=float, default=None, help="cho-*: step of the exponent k (default 0.001).")(f)
+    f = click.option("--alpha", type=float, default=None,
+                     help="cho-*: strength factor (default 0.04 for cho-mean, 0.16 for cho-variance).")(f)
     f = click.option("--thesis-exact", is_flag=True, default=False,
-                     help="Run the thesis algorithm to the letter (no robustness fixes).")(f)
-    f = click.option("--eps", type=float, default=None, help="Regularisation of eq. 7.1.4 (default 1e-5).")(f)
-    f = click.option("--n-robust", "n_robust", type=int, default=None, help="eq. 7.2.16 margin divisor (default 5).")(f)
-    f = click.option("--n-thr", "n_thr", type=int, default=None, help="Minimum elements in a valid bin pair (default 46).")(f)
-    f = click.option("--K", "K", type=int, default=None, help="Number of histogram bins (default ceil(N/70)).")(f)
+                     help="laplacian, cho-*: run the published algorithm to the letter (no robustness fixes).")(f)
+    f = click.option("--eps", type=float, default=None, help="laplacian: regularisation of eq. 7.1.4 (default 1e-5).")(f)
+    f = click.option("--n-robust", "n_robust", type=int, default=None, help="laplacian: eq. 7.2.16 margin divisor (default 5).")(f)
+    f = click.option("--n-thr", "n_thr", type=int, default=None,
+                     help="laplacian: minimum elements in a valid bin pair (default 46); "
+                          "radial: eq. 6.1.6 count difference (default Table 6.1 / docs/radial.md rule).")(f)
+    f = click.option("--K", "K", type=int, default=None,
+                     help="Number of histogram bins (laplacian ceil(N/70), cho-* 64, radial 400).")(f)
     f = click.option("--method", type=click.Choice(_METHOD_CHOICES), default="laplacian", show_default=True)(f)
     return f
 
 
-def _params(K, n_thr, n_robust, eps, thesis_exact):
-    p = {"K": K, "n_thr": n_thr, "n_robust": n_robust, "eps": eps}
-    if thesis_exact:
-        p["thesis_exact"] = True
-    return {k: v for k, v in p.items() if v is not None}
+def _params(**kw):
+    """The method parameters given on the command line (unset options and a false flag left out)."""
+    if not kw.get("thesis_exact"):
+        kw.pop("thesis_exact", None)
+    return {k: v for k, v in kw.items() if v is not None}
 
 
 def _progress_bar(as_json: bool):
@@ -124,7 +140,7 @@ def _progress_bar(as_json: bool):
 @click.option("--key", required=True, help="Secret key (keep it; it is also stored in the keyfile).")
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Where to write the keyfile (JSON).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def embed(inp, out, method, K, n_thr, n_robust, eps, thesis_exact, message, bits, key, keyfile, as_json):
+def embed(inp, out, method, message, bits, key, keyfile, as_json, **method_params):
     """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile."""
     from . import read_mesh, write_mesh
     from .watermark import embed as wm_embed, save_keyfile
@@ -137,7 +153,7 @@ def embed(inp, out, method, K, n_thr, n_robust, eps, thesis_exact, message, bits
     report, bar = _progress_bar(as_json)
     try:
         res = wm_embed(mesh, payload=payload, key=key, method=method, progress=report,
-                       **_params(K, n_thr, n_robust, eps, thesis_exact))
+                       **_params(**method_params))
     finally:
         if bar is not None:
             bar.__exit__(None, None, None)
@@ -178,7 +194,7 @@ def extract(inp, keyfile, key, as_json):
 @click.argument("inp", metavar="IN")
 @_method_options
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def capacity(inp, method, K, n_thr, n_robust, eps, thesis_exact, as_json):
+def capacity(inp, method, as_json, **method_params):
     """How many carrier bits IN offers to a method, and how long a message fits."""
     from . import read_mesh
     from .watermark import METHODS
@@ -186,7 +202,7 @@ def capacity(inp, method, K, n_thr, n_robust, eps, thesis_exact, as_json):
 
     mesh = read_mesh(inp)
     m = METHODS[method]
-    p = m.resolve(mesh, _params(K, n_thr, n_robust, eps, thesis_exact))
+    p = m.resolve(mesh, _params(**method_params))
     ids, _ = m.carriers(mesh, p)
     cap = int(len(ids))
     d = {"input": inp, "method": method, "params": p, "capacity": cap,
@@ -310,6 +326,41 @@ def compare(mesh_a, mesh_b, samples, seed, as_json):
     d = run_compare(read_mesh(mesh_a), read_mesh(mesh_b), n_samples=samples, seed=seed)
     d = {"a": mesh_a, "b": mesh_b, **d}
     _emit(d, as_json, _format_compare(mesh_a, mesh_b, d))
+
+
+# --- steganalysis ---------------------------------------------------------------------------
+@main.group()
+def steganalysis():
+    """Detect hidden information without a key."""
+
+
+@steganalysis.command("cho")
+@click.argument("inp", metavar="IN")
+@click.option("--k-min", "K_min", type=int, default=1, show_default=True, help="Smallest bin number tried.")
+@click.option("--k-max", "K_max", type=int, default=500, show_default=True, help="Largest bin number tried.")
+@click.option("--eps", type=float, default=0.15, show_default=True, help="eq. 6.4.16 tolerance.")
+@click.option("--eps2", type=float, default=0.03, show_default=True, help="eq. 6.4.17 balance tolerance.")
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+def steganalysis_cho(inp, K_min, K_max, eps, eps2, as_json):
+    """Does IN carry a watermark of Cho et al.'s mean method? (thesis §6.4)
+
+    Exit status: 0 marked, 1 not marked, 2 error.
+    """
+    from . import read_mesh
+    from .steganalysis.cho import analyze
+
+    mesh = read_mesh(inp)
+    r = analyze(mesh, K_min=K_min, K_max=K_max, eps=eps, eps2=eps2)
+    d = {"input": inp, "k_estimate": int(r["k_estimate"]), "bhattacharyya": float(r["bhattacharyya"]),
+         "marked": bool(r["marked"]), "eq_6_4_16": bool(r["eq_6_4_16"]), "eq_6_4_17": bool(r["eq_6_4_17"]),
+         "min_C": float(r["min_C"]), "max_Ctilde": float(r["max_Ctilde"]), "size_C": int(r["size_C"]),
+         "size_Ctilde": int(r["size_Ctilde"])}
+    text = (f"{inp}: {'MARKED' if d['marked'] else 'clean'} (Cho mean method)\n"
+            f"estimated bins K' = {d['k_estimate']}  Bhattacharyya D = {d['bhattacharyya']:.4g}\n"
+            f"clusters {d['size_C']} / {d['size_Ctilde']}, min C {d['min_C']:.4f}, max C~ {d['max_Ctilde']:.4f}; "
+            f"eq. 6.4.16 {'holds' if d['eq_6_4_16'] else 'fails'}, eq. 6.4.17 {'holds' if d['eq_6_4_17'] else 'fails'}")
+    _emit(d, as_json, text)
+    sys.exit(0 if d["marked"] else 1)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,0 +1,167 @@
+"""Yang's radial-histogram watermark with a PCA origin (thesis §6.1-6.2).
+
+The distances ``rho_i = ||v_i - o||`` (eq. 6.1.1) are taken about an origin ``o`` on the first principal
+axis: the mean of the right-most half of the vertices projected on the axis (§6.1.1; the axis sign is
+meshmark's PCA rule, positive skewness, ``docs/mesh_model.md``). ``K`` bins of width
+``(rho_max - rho_min) / K`` (eqs. 6.1.2-6.1.3); pairs (B2, B3), (B4, B5), ... with B1, B_K (and B_{K-1}
+for odd K) never used; a pair with at least one element is embeddable (eq. 6.1.4). A bit is written
+by moving ``n_mov`` radii (cases 1-3, eq. 6.1.7) into the other bin of the pair (eq. 6.1.5) so that
+the count difference reaches ``n_thr`` (eq. 6.1.6), and read as which bin is larger (eq. 6.2.10:
+bit 1 <=> ``|B_k| > |B_k+1|``).
+
+Defaults: ``K = 400`` (§6.3.2); ``n_thr`` from Table 6.1 for the thesis' models (recognised by their
+vertex count, +-1), else ``max(1, round(0.0245 N^0.726 400 / K))`` (:func:`default_n_thr`, a power law
+through Table 6.1; docs/radial.md §2).
+
+:func:`embed` / :func:`extract` go through the framework (keys, framing, keyfile, detection; the frame is
+repeated over every embeddable pair); :func:`embed_bits` / :func:`extract_bits` are the thesis' use (bit
+``i`` in the ``i``-th embeddable pair, no key).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import _core
+from .._core import MeshError
+from ..mesh import Mesh
+from . import framework
+from .cho import _mask
+from .laplacian import _referenced
+
+NAME = "radial"
+DEFAULTS = {"K": 400, "n_thr": None, "origin_mode": "axis", "origin_iters": 0}
+
+#: Table 6.1 of the thesis (K = 400): model -> (#vertices, n_thr).
+TABLE_6_1 = {"bunny": (34835, 43), "rabbit": (70658, 80), "venus": (100759, 100), "dragon": (50000, 75),
+             "cow": (2904, 8)}
+
+
+def default_n_thr(n_vertices: int, K: int = 400) -> int:
+    """n_thr of Table 6.1 when ``n_vertices`` is a thesis model's count (+-1; scaled by 400/K), else the
+    power law ``max(1, round(0.0245 * N**0.726 * 400 / K))`` fitted to Table 6.1 (docs/radial.md)."""
+    for n_t, thr in TABLE_6_1.values():
+        if abs(int(n_vertices) - n_t) <= 1:
+            return max(1, int(round(thr * 400.0 / K)))
+    return max(1, int(round(0.0245 * float(n_vertices) ** 0.726 * 400.0 / K)))
+
+
+def pair_counts(counts: np.ndarray, K: int):
+    """(first bin a (p,), |B_a| (p,), |B_a+1| (p,)) of the pairs (B2,B3), ... (0-based a = 1, 3, ...)."""
+    a = np.arange((K - 2) // 2) * 2 + 1
+    return a, counts[a], counts[a + 1]
+
+
+class _Radial:
+    name = NAME
+
+    def resolve(self, mesh: Mesh, params: dict) -> dict:
+        unknown = set(params) - set(DEFAULTS)
+        if unknown:
+            raise MeshError(f"unknown parameter(s) for the radial method: {', '.join(sorted(unknown))} "
+                            f"(known: {', '.join(DEFAULTS)})")
+        p = {**DEFAULTS, **{k: v for k, v in params.items() if v is not None}}
+        p["K"], p["origin_iters"] = int(p["K"]), int(p["origin_iters"])
+        if p["K"] < 4:
+            raise MeshError(f"K must be at least 4 bins, got {p['K']}")
+        if p["origin_mode"] not in ("axis", "vertices"):
+            raise MeshError(f"origin_mode must be 'axis' or 'vertices', got {p['origin_mode']!r}")
+        n = int(_referenced(mesh).sum())
+        if n < p["K"]:
+            raise MeshError(f"the mesh has {n} referenced vertices but K = {p['K']} bins were asked for: "
+                            "fewer vertices than bins")
+        p["n_thr"] = default_n_thr(n, p["K"]) if p["n_thr"] is None else int(p["n_thr"])
+        if p["n_thr"] < 1:
+            raise MeshError(f"n_thr must be >= 1, got {p['n_thr']}")
+        if p["origin_iters"] < 0:
+            raise MeshError(f"origin_iters must be >= 0, got {p['origin_iters']}")
+        return p
+
+    def describe(self, p: dict) -> str:
+        return f"K={p['K']}, n_thr={p['n_thr']}"
+
+    def counts(self, mesh: Mesh, p: dict):
+        return _core.radial_counts(mesh.V, _referenced(mesh), p["K"], p["origin_mode"])[0]
+
+    def carriers(self, mesh: Mesh, p: dict):
+        _, ca, cb = pair_counts(self.counts(mesh, p), p["K"])
+        return np.flatnonzero(ca + cb >= 1), {}  # eq. 6.1.4
+
+    def embed(self, mesh: Mesh, p: dict, side: dict, ids, bits):
+        pm = np.where(np.asarray(bits) > 0, 1, -1)
+        r = _core.radial_embed(mesh.V, _referenced(mesh), p["K"], [int(i) for i in ids], pm.tolist(), p["n_thr"],
+                               p["origin_mode"], p["origin_iters"])
+        st = {"n_moved": int(r["n_moved"])}
+        if r["origin_drift"] >= 0:
+            st["origin_drift"] = float(r["origin_drift"])
+        return r["V"], side, st
+
+    def extract(self, mesh: Mesh, p: dict, side: dict, ids):
+        _, ca, cb = pair_counts(self.counts(mesh, p), p["K"])
+        ids = np.asarray(ids, np.int64)
+        if ids.size and ids.max() >= (p["K"] - 2) // 2:
+            raise MeshError("keyfile lists a carrier beyond the histogram's pairs (corrupt keyfile?)")
+        c1, c2 = ca[ids], cb[ids]
+        return (c1 > c2).astype(np.uint8), np.abs(c1 - c2) / np.maximum(c1 + c2, 1)  # eq. 6.2.10
+
+
+METHOD = _Radial()
+framework.register(METHOD)
+
+
+def capacity(V, F=None, **params) -> int:
+    """Number of embeddable pairs (eq. 6.1.4) = carrier bits, before framing (16 bits) is subtracted."""
+    return framework.capacity(V, F, method=NAME, **params)
+
+
+def embed(V, F=None, payload=None, key=None, progress=None, **params) -> framework.EmbedResult:
+    """Embed ``payload`` under ``key``. Parameters: ``K`` (400), ``n_thr`` (Table 6.1 / rule),
+    ``origin_mode`` ("axis" or "vertices"), ``origin_iters`` (0)."""
+    return framework.embed(V, F, payload=payload, key=key, method=NAME, progress=progress, **params)
+
+
+def extract(V, F=None, keyfile=None, key=None, progress=None) -> framework.ExtractResult:
+    """Blind extraction and detection with a keyfile written by :func:`embed`."""
+    return framework.extract(V, F, keyfile=keyfile, key=key, progress=progress)
+
+
+def origin(V, F=None, origin_mode: str = "axis"):
+    """§6.1.1: ``(o (3,), principal axis u (3,), standardised skewness along u)``."""
+    V, mask = _mask(V, F)
+    return _core.radial_origin(V, mask, origin_mode)
+
+
+# --- the thesis' own interface: bit i in the i-th embeddable pair, no key ----------------------
+def embed_bits(V, F=None, bits=None, K: int = 400, n_thr: int | None = None, origin_mode: str = "axis",
+               origin_iters: int = 0):
+    """§6.1 as written: bit ``i`` (0/1) into the ``i``-th embeddable pair (B2,B3), (B4,B5), ...
+
+    Returns ``(V' (n, 3) float64, info)`` with ``origin``, ``pairs`` (pair indices used), ``n_mov``,
+    ``n_moved``, ``n_thr``, ``origin_drift``. MeshError if the mesh has fewer embeddable pairs than bits.
+    """
+    V, mask = _mask(V, F)
+    b = np.asarray(bits).ravel()
+    if b.size == 0 or not np.isin(b, (0, 1)).all():
+        raise MeshError("bits must be a non-empty sequence of 0 and 1")
+    n = int(mask.sum())
+    if K < 4:
+        raise MeshError(f"K must be at least 4 bins, got {K}")
+    n_thr = default_n_thr(n, K) if n_thr is None else int(n_thr)
+    r = _core.radial_embed(V, mask, int(K), None, (2 * b.astype(int) - 1).tolist(), n_thr, origin_mode,
+                           int(origin_iters))
+    V2 = r.pop("V")
+    r.update(pairs=np.asarray(r["pairs"]), n_thr=n_thr)
+    return V2, r
+
+
+def extract_bits(V, F=None, n_bits: int = 64, K: int = 400, origin_mode: str = "axis"):
+    """§6.2: origin and histogram from the mesh itself, embeddable pairs (eq. 6.2.8) in order,
+    eq. 6.2.10. Returns ``(bits (n_bits,) uint8, counts (K,))`` (missing pairs read as 0)."""
+    V, mask = _mask(V, F)
+    counts = _core.radial_counts(V, mask, int(K), origin_mode)[0]
+    _, ca, cb = pair_counts(counts, K)
+    emb = np.flatnonzero(ca + cb >= 1)[:n_bits]
+    bits = np.zeros(n_bits, np.uint8)
+    bits[: emb.size] = ca[emb] > cb[emb]
+    return bits, counts
