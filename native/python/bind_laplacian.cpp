@@ -4,6 +4,7 @@
 #include "meshmark/kirchhoff_matrix.h"
 #include "meshmark/laplacian_coordinates.h"
 #include "meshmark/laplacian_watermark.h"
+#include "meshmark/mean_edge_length.h"
 #include "meshmark/vertex_adjacency.h"
 
 #include <pybind11/eigen.h>
@@ -48,6 +49,9 @@ void bind_laplacian(py::module_& m) {
           py::gil_scoped_release release;
           return laplacian_coordinates(V, vertex_adjacency(static_cast<Index>(V.rows()), E), eps);
         }, py::arg("V"), py::arg("E"), py::arg("eps") = 0.0);
+
+  m.def("mean_edge_length", [](VRef V, ERef E) { return mean_edge_length(V, E); }, py::arg("V"), py::arg("E"),
+        py::call_guard<py::gil_scoped_release>());
 
   m.def("laplacian_lengths", [](VRef V, ERef E, double eps) {
           py::gil_scoped_release release;

@@ -40,7 +40,8 @@ def _referenced(mesh: Mesh) -> np.ndarray:
 
 
 def mean_edge_length(V: np.ndarray, E: np.ndarray) -> float:
-    return float(np.linalg.norm(V[E[:, 0]] - V[E[:, 1]], axis=1).mean())
+    """Mean edge length (model units): the scale unit of the normalised Laplacian lengths."""
+    return float(_core.mean_edge_length(V, E))
 
 
 def laplacian_lengths(V, F=None, eps: float = 0.0) -> np.ndarray:
