@@ -5,8 +5,8 @@ Both characters are far below the size the thesis' Laplacian method is made for 
 K = ceil(N/70) bins with at least 46 elements per pair): at thesis defaults the Fox offers 7
 carrier bits and the joined Knight 10, fewer than one framed text byte (24 bits). The test uses the
 smallest parameters that fit a one-letter message and records what survives (build/blender-results).
-Measured: the Knight (rigid-ish parts) keeps CDR ~0.98 on average but is detected on only ~80% of
-frames; the Fox (576 loose triangles, smoothly skinned) does not keep the mark (CDR ~0.7): the
+Measured: the Knight (rigid-ish parts) keeps CDR ~0.98 on average but is not detected on every
+frame; the Fox (576 loose triangles, smoothly skinned) does not keep the mark (CDR ~0.5): the
 targets "detected at every frame, CDR >= 0.9, message on >= 95% of frames" are not met.
 """
 import bpy
@@ -65,8 +65,10 @@ def test_fox(addon, tmp_path):
     s = _summary("character_fox", rows, "Fox.glb (1728 vertices, 576 loose triangles), Laplacian K=80 n_thr=8 "
                  "(thesis defaults offer 7 carriers), 28 carriers, message 'F', every frame of each action")
     assert s["frames"] == 83 + 18 + 29  # Survey 0-82, Walk 0-17, Run 0-28
-    # measured, below target: the mark stays above chance (0.5) but is not reliably detected
-    assert 0.6 < s["mean_cdr"] < 0.9, s
+    # Measured, target NOT met: 576 loose triangles give each vertex a 2-neighbour "Laplacian" that the
+    # skinning changes by 1-13 %, so the 28 bits are at chance level (mean CDR ~0.5) and never detected.
+    # The check below pins that: no false "found" on a mark that did not survive.
+    assert s["mean_cdr"] < 0.8 and s["detected"] == 0.0, s
 
 
 def test_knight(addon, tmp_path):

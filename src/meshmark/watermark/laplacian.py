@@ -114,14 +114,56 @@ class _Laplacian:
         return V, side, {"n_moved": int(n_moved)}
 
     def extract(self, mesh: Mesh, p: dict, side: dict, ids):
-        _, _, counts, _ = self._histogram(mesh, p, side)
         ids = np.asarray(ids, np.int64)
         if ids.size and ids.max() >= (p["K"] - 2) // 2:
             raise MeshError("keyfile lists a carrier beyond the histogram's pairs (corrupt keyfile?)")
-        c1, c2 = counts[2 * ids + 1], counts[2 * ids + 2]
+        E, d, _ = self._lengths(mesh, p)
+        d = np.sort(d[_referenced(mesh) == 1])
+        lo, hi, K = side["lo"], side["hi"], p["K"]
+        t = 1.0
+        if not p["thesis_exact"] and side.get("range_search", True):
+            t = _range_factor(d, lo, hi, K, ids)
+        c1, c2 = _pair_counts(d, lo * t, hi * t, K, ids)
         bits = (c1 >= c2).astype(np.uint8)  # eq. 7.1.10 / §7.3: +1 if |B_k| >= |B_k+1|
         soft = np.abs(c1 - c2) / np.maximum(c1 + c2, 1)
         return bits, soft
+
+
+def _pair_counts(d_sorted: np.ndarray, lo, hi, K: int, ids: np.ndarray):
+    """|B_k|, |B_k+1| of the carrier pairs ids (eq. 7.1.6), for one range or arrays of ranges.
+
+    ``lo``/``hi`` may be arrays (one range per row); ``d_sorted`` is sorted ascending. Bins are
+    half-open [edge_k, edge_k+1) as in laplacian_histogram; values outside [lo, hi] are not counted.
+    """
+    lo = np.asarray(lo, float)[..., None]
+    delta = (np.asarray(hi, float)[..., None] - lo) / K
+    k = 2 * ids + 1
+    e0, e1, e2 = lo + delta * k, lo + delta * (k + 1), lo + delta * (k + 2)
+    n0, n1, n2 = (np.searchsorted(d_sorted, e, side="left") for e in (e0, e1, e2))
+    return n1 - n0, n2 - n1
+
+
+def _range_factor(d_sorted, lo, hi, K, ids, span=0.1, min_gain=0.05) -> float:
+    """The factor t in [1 - span, 1 + span] whose range (t lo, t hi) gives the carrier pairs the
+    largest mean relative margin |c1 - c2| / (c1 + c2): a deformation or smoothing changes the mean
+    edge length (our scale unit) by up to a few per cent, which shifts far bins by several bin widths
+    (docs/laplacian.md, "Beyond the thesis" (c)). The score ignores the bit values, so it is the same
+    for every key. Coarse grid (0.1 % steps), then a fine one (0.004 % steps) around the best. The
+    factor is used only if it raises the score by more than ``min_gain`` over t = 1: on small meshes
+    with few elements per pair the score is noisy and t = 1 is the better bet."""
+    if ids.size == 0:
+        return 1.0
+
+    def score(ts):
+        c1, c2 = _pair_counts(d_sorted, lo * ts, hi * ts, K, ids)
+        return (np.abs(c1 - c2) / np.maximum(c1 + c2, 1)).mean(axis=1)
+
+    ts = np.concatenate([[1.0], np.linspace(1 - span, 1 + span, 201)])
+    t = ts[int(np.argmax(score(ts)))]
+    ts = np.concatenate([[t], np.linspace(t - 1e-3, t + 1e-3, 51)])
+    sc = score(ts)
+    base = float(score(np.array([1.0]))[0])
+    return float(ts[int(np.argmax(sc))]) if sc.max() > base + min_gain else 1.0
 
 
 METHOD = _Laplacian()
