@@ -31,12 +31,6 @@ using TRef = Eigen::Ref<const MatrixX3iR>;
 using WordMat = Eigen::Matrix<std::uint64_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using Release = py::call_guard<py::gil_scoped_release>;
 
-Polygons make_polygons(VectorXi indices, VectorXo offsets) {
-  Polygons P;
-  P.indices = std::move(indices);
-  P.offsets = std::move(offsets);
-  return P;
-}
 
 NoiseKind noise_kind(const std::string& s) {
   if (s == "uniform") return NoiseKind::Uniform;

@@ -28,12 +28,6 @@ using TRef = Eigen::Ref<const MatrixX3iR>;
 using ERef = Eigen::Ref<const MatrixX2iR>;
 using Release = py::call_guard<py::gil_scoped_release>;
 
-Polygons make_polygons(VectorXi indices, VectorXo offsets) {
-  Polygons P;
-  P.indices = std::move(indices);
-  P.offsets = std::move(offsets);
-  return P;
-}
 }  // namespace
 
 void bind_mesh(py::module_& m) {

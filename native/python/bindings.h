@@ -2,7 +2,19 @@
 #pragma once
 #include <pybind11/pybind11.h>
 
+#include "meshmark/mesh.h"
+
+#include <utility>
+
 namespace meshmark::python {
+
+// Faces passed from Python as (indices int32, offsets int64) arrays.
+inline Polygons make_polygons(VectorXi indices, VectorXo offsets) {
+  Polygons P;
+  P.indices = std::move(indices);
+  P.offsets = std::move(offsets);
+  return P;
+}
 
 void bind_mesh(pybind11::module_& m);  // validation, topology, geometry, PCA, info (bind_mesh.cpp)
 void bind_io(pybind11::module_& m);    // read_mesh / write_mesh (bind_io.cpp)
