@@ -24,7 +24,7 @@ SHARED = pathlib.Path(__file__).resolve().parents[2] / "shared" / "meshes"
 
 ATTACK_LIST = (
     [("none", {}, lambda m, s: m)]
-    + [(f"noise {a * 100:.2f}%", {"strength": a}, (lambda a: lambda m, s: A.noise(m, strength=a, seed=s))(a))
+    + [(f"noise {a * 100:.3g}%", {"strength": a}, (lambda a: lambda m, s: A.noise(m, strength=a, seed=s))(a))
        for a in (0.00005, 0.0001, 0.0005, 0.001, 0.0025, 0.005)]
     + [(f"smooth 0.02x{it}", {"iterations": it}, (lambda it: lambda m, s: A.smooth(m, lam=0.02, iterations=it))(it))
        for it in (10, 30, 50)]
