@@ -258,3 +258,15 @@ def test_cli_embed_extract_capacity(tmp_path):
     assert w.returncode == 1 and json.loads(w.stdout)["detected"] is False
     big = run("embed", src, out, "--message", "this message is far too long", "--key", "k", "--keyfile", kf)
     assert big.returncode == 2 and "can carry 44 bits" in big.stderr
+
+
+def test_skewed_histogram_disables_the_range_search():
+    """vtk_trumpet (33 parts, 36-gons): a shifted range scores higher by chance; the embedder sees it
+    and records range_search = False, so the mark reads back exactly."""
+    m = meshmark.read_mesh(shared_mesh("corpus/vtk_trumpet.obj"))
+    r = L.embed(m, payload="M", key="trumpet", n_thr=20)
+    assert r.keyfile.side_info["range_search"] is False
+    assert L.extract(r.V, m, keyfile=r.keyfile).cdr == 1.0
+    bunny = meshmark.read_mesh(shared_mesh("classic/bunny.obj"))
+    assert L.embed(bunny, payload="M", key="b").keyfile.side_info["range_search"] is True
+

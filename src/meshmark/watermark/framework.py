@@ -144,7 +144,9 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
         if todo.size == 0:
             break
     stats["rounds"] = rnd + 1
-    stats["unverified_bits"] = int(todo.size)
+    if todo.size:
+        raise MeshError(f"the {method} mark does not take on this mesh: {todo.size} of {cap} carrier bits still read "
+                        f"wrong after {MAX_ROUNDS} rounds ({m.describe(p)}); nothing was changed. Try other parameters.")
     report(0.95, "writing keyfile")
     bits = pl.bitstring()
     kf = Keyfile(method=method, params=p, key=key,

@@ -111,6 +111,12 @@ class _Laplacian:
         if not p["thesis_exact"]:  # express the range in units of the marked mesh's mean edge length
             r = scale / mean_edge_length(V, E)
             side["lo"], side["hi"] = side["lo"] * r, side["hi"] * r
+            # The range search may be used at extraction only if, on the marked mesh itself, it finds
+            # t = 1: on skewed histograms (huge first bins) a shifted range can score higher by chance.
+            _, dm, _ = self._lengths(mesh.with_vertices(V), p)
+            dm = np.sort(dm[_referenced(mesh) == 1])
+            t = _range_factor(dm, side["lo"], side["hi"], p["K"], np.asarray(ids, np.int64))
+            side["range_search"] = bool(side.get("range_search", True) and abs(t - 1.0) < 1e-3)
         return V, side, {"n_moved": int(n_moved)}
 
     def extract(self, mesh: Mesh, p: dict, side: dict, ids):
