@@ -216,3 +216,31 @@ def test_independent_sampling_agrees_with_pymeshlab(attacked_pairs):
             assert abs(ours["rms"] / pml["RMS"] - 1) < 0.02, (name, label, direction, ours["rms"], pml["RMS"])
             if label.startswith("noise") or direction == "ab":
                 assert abs(ours["max"] / pml["max"] - 1) < 0.02, (name, label, direction, ours["max"], pml["max"])
+
+
+# --- bounded Hausdorff (branch and bound) ---------------------------------------------------------------
+
+def test_bounded_hausdorff_finds_an_interior_maximum():
+    """A: an equilateral triangle of side 2; B: three tiny triangles at A's corners. The point of A
+    farthest from B is the centre, at the circumradius 2/sqrt(3) minus the tiny size; sampling only
+    A's vertices would report 0."""
+    s3 = np.sqrt(3.0)
+    A_V = np.array([[-1, 0, 0], [1, 0, 0], [0, s3, 0]], float)
+    e = 1e-4
+    B_V = np.vstack([c + np.array([[0, 0, 0], [e, 0, 0], [0, e, 0]]) for c in A_V])
+    B_F = np.arange(9).reshape(3, 3)
+    h = M.hausdorff_distance((A_V, [[0, 1, 2]]), (B_V, B_F), rel_tol=1e-4)
+    R = 2 / s3
+    assert R - 2 * e < h["lower"] <= h["upper"] <= h["lower"] * (1 + 1e-4) and h["upper"] < R + 1e-12
+    parallel = M.hausdorff_distance((A_V, [[0, 1, 2]]), (A_V + [0, 0, 0.5], [[0, 1, 2]]), rel_tol=0)
+    assert parallel["lower"] == pytest.approx(0.5, abs=1e-15) and parallel["upper"] == pytest.approx(0.5, abs=1e-15)
+
+
+def test_bounded_hausdorff_is_at_least_every_sample():
+    cow = meshmark.read_mesh(shared_mesh("classic/cow.obj"))
+    s = A.simplify(cow, fraction=0.25)
+    h = M.hausdorff_distance(s, cow, rel_tol=1e-3)
+    sampled = M.one_sided_distance(s, cow, n_samples=50 * s.n_faces, seed=3)["max"]
+    assert sampled <= h["upper"] and h["upper"] <= h["lower"] * 1.001
+    d = M.surface_distance(cow, s)
+    assert d["hausdorff"] >= d["hausdorff_sampled"] * 0.999 and d["hausdorff_rel"] == d["hausdorff"] / d["diag"]

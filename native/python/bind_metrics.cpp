@@ -4,6 +4,7 @@
 #include "meshmark/error.h"
 #include "meshmark/normal_degradation.h"
 #include "meshmark/surface_distance.h"
+#include "meshmark/hausdorff_distance.h"
 #include "meshmark/vertex_rmse.h"
 
 #include <pybind11/eigen.h>
@@ -72,6 +73,18 @@ void bind_metrics(py::module_& m) {
           return as_dict(d);
         }, py::arg("VA"), py::arg("TA"), py::arg("VB"), py::arg("TB"), py::arg("n_samples"), py::arg("include_vertices"),
         py::arg("seed"));
+  m.def("hausdorff_distance", [](VRef VA, TRef TA, VRef VB, TRef TB, double rel_tol, double abs_tol) {
+          HausdorffBound h;
+          {
+            py::gil_scoped_release release;
+            h = hausdorff_distance(VA, TA, VB, TB, rel_tol, abs_tol);
+          }
+          py::dict d;
+          d["lower"] = h.lower;
+          d["upper"] = h.upper;
+          d["n_queries"] = h.n_queries;
+          return d;
+        }, py::arg("VA"), py::arg("TA"), py::arg("VB"), py::arg("TB"), py::arg("rel_tol") = 1e-3, py::arg("abs_tol") = 0.0);
 }
 
 }  // namespace meshmark::python

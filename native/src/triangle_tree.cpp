@@ -114,6 +114,7 @@ TriangleTree::TriangleTree(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::R
     jobs.push_back({left, j.first, half});
   }
   tri_.resize(static_cast<size_t>(t));
+  pos_.assign(static_cast<size_t>(t), -1);
   for (Eigen::Index i = 0; i < t; ++i) {
     const Index f = order[i];
     Tri& r = tri_[i];
@@ -123,7 +124,14 @@ TriangleTree::TriangleTree(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::R
       r.ac[k] = V(T(f, 2), k) - r.a[k];
     }
     r.id = f;
+    pos_[f] = static_cast<std::int32_t>(i);
   }
+}
+
+double TriangleTree::face_distance2(Index face, const Eigen::Vector3d& p) const {
+  const Tri& r = tri_[pos_[face]];
+  const double q[3] = {p[0], p[1], p[2]};
+  return tri_dist2(q, r.a, r.ab, r.ac);
 }
 
 double TriangleTree::closest(const Eigen::Vector3d& p, Index* face) const {

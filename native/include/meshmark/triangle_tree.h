@@ -16,6 +16,9 @@ class TriangleTree {
   // Squared distance from p to the nearest triangle and its index (-1 if the tree is empty).
   double closest(const Eigen::Vector3d& p, Index* face = nullptr) const;
 
+  // Squared distance from p to one triangle, by its index in T.
+  double face_distance2(Index face, const Eigen::Vector3d& p) const;
+
   Eigen::Index size() const { return static_cast<Eigen::Index>(tri_.size()); }
 
  private:
@@ -32,6 +35,7 @@ class TriangleTree {
   };
   std::vector<Node> nodes_;
   std::vector<Tri> tri_;
+  std::vector<std::int32_t> pos_;  // triangle index in T -> position in tri_
 };
 
 }  // namespace meshmark
