@@ -103,3 +103,25 @@ def test_deformation_study_writes_csv_and_plot(arm_rig, tmp_path):
     assert bpy.context.scene.frame_current == 1  # the frame is restored
     skel.animation_data_clear()
     _reset(arm, skel, V0)
+
+
+@pytest.mark.parametrize("method", ["cho-mean", "cho-variance", "radial"])
+def test_radial_methods_lose_the_mark_when_bent(arm_rig, tmp_path, method):
+    """The same rig and sweep with the ch. 6 methods (thesis Table 7.5: Cho's mark does not survive
+    editing, NC 0.49 / 0.19): they read back exactly at rest, but a bend of 15 degrees already drops
+    them to chance (CDR ~0.5-0.65), while the Laplacian mark above keeps CDR 1.0 to 90 degrees."""
+    arm, skel, _, V0 = arm_rig
+    _reset(arm, skel, V0)
+    kf = str(tmp_path / f"{method}.json")
+    rigs.select_only(arm)
+    assert bpy.ops.meshmark.embed(method=method, message="M", key="arm", keyfile=kf) == {"FINISHED"}
+    assert last_result()["stored_cdr"] == 1.0
+    poses = [(b, 0) for b in range(0, 91, 15)] + [(0, t) for t in (30, 60, 90)] + [(45, 45)]
+    rows = _sweep(arm, skel, kf, poses)
+    rigs.write_table(f"arm_{method}", ["bend deg", "twist deg", "NC", "CDR", "detected", "message"], rows,
+                     f"Jittered arm (20,482 vertices), two bones, automatic weights; {method} defaults, message 'M'")
+    by = {(b, t): r for b, t, *r in rows}
+    assert by[(0, 0)][1] == 1.0 and by[(0, 0)][3] == "M"
+    bent = [by[(b, 0)][1] for b in (45, 60, 75, 90)]
+    assert np.mean(bent) < 0.85 and not all(by[(b, 0)][2] for b in (45, 60, 75, 90)), bent
+    _reset(arm, skel, V0)
