@@ -23,28 +23,30 @@ PCA pca(const Eigen::Ref<const MatrixX3dR>& V) {
     out.axes.col(k) = es.eigenvectors().col(2 - k).normalized();
   }
   // Sign rule: positive third central moment of the projections (see pca.h, docs/mesh_model.md).
+  // One pass over the points for all three axes.
+  Eigen::Vector3d m3 = Eigen::Vector3d::Zero(), pmax = Eigen::Vector3d::Zero(), pmin = Eigen::Vector3d::Zero();
+  const Eigen::Matrix3d Qt = out.axes.transpose();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Vector3d p = Qt * (V.row(i).transpose() - out.centroid);
+    m3 += p.cwiseProduct(p).cwiseProduct(p);
+    pmax = pmax.cwiseMax(p);
+    pmin = pmin.cwiseMin(p);
+  }
+  m3 /= static_cast<double>(n);
   for (int k = 0; k < 3; ++k) {
-    Eigen::Vector3d q = out.axes.col(k);
-    double m3 = 0, pmax = 0, pmin = 0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double p = (V.row(i).transpose() - out.centroid).dot(q);
-      m3 += p * p * p;
-      pmax = std::max(pmax, p);
-      pmin = std::min(pmin, p);
-    }
-    m3 /= static_cast<double>(n);
+    const Eigen::Vector3d q = out.axes.col(k);
     const double scale = std::pow(out.eigenvalues[k], 1.5);
     int sign;
-    if (std::abs(m3) > 1e-9 * scale) sign = m3 > 0 ? 1 : -1;
-    else if (std::abs(pmax + pmin) > 1e-9 * std::sqrt(out.eigenvalues[k]))
-      sign = pmax >= -pmin ? 1 : -1;
+    if (std::abs(m3[k]) > 1e-9 * scale) sign = m3[k] > 0 ? 1 : -1;
+    else if (std::abs(pmax[k] + pmin[k]) > 1e-9 * std::sqrt(out.eigenvalues[k]))
+      sign = pmax[k] >= -pmin[k] ? 1 : -1;
     else {
       Eigen::Index j;
       q.cwiseAbs().maxCoeff(&j);
       sign = q[j] >= 0 ? 1 : -1;
     }
     out.axes.col(k) = sign * q;
-    out.skewness[k] = sign * m3;
+    out.skewness[k] = sign * m3[k];
   }
   return out;
 }
