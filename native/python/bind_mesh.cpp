@@ -1,6 +1,7 @@
 #include "bindings.h"
 
 #include "meshmark/angle_sum.h"
+#include "meshmark/error.h"
 #include "meshmark/boundary.h"
 #include "meshmark/connected_components.h"
 #include "meshmark/dihedral_angles.h"
@@ -31,8 +32,25 @@ using Release = py::call_guard<py::gil_scoped_release>;
 }  // namespace
 
 void bind_mesh(py::module_& m) {
-  m.def("validate", [](VRef V, VectorXi idx, VectorXo off) { validate_mesh(V, make_polygons(std::move(idx), std::move(off))); },
-        py::arg("V"), py::arg("indices"), py::arg("offsets"), Release());
+  // Zero-copy: the Python layer passes C-contiguous int32 indices and int64 offsets.
+  m.def("validate", [](VRef V, Eigen::Ref<const VectorXi> idx, Eigen::Ref<const VectorXo> off) {
+          if (off.size() == 0) throw MeshError("face offsets are empty");
+          validate_mesh(V, PolygonsView{idx.data(), idx.size(), off.data(), off.size() - 1});
+        }, py::arg("V"), py::arg("indices"), py::arg("offsets"), Release());
+
+  // (n,) uint8: 1 for vertices used by a face.
+  m.def("referenced_mask", [](Index n, Eigen::Ref<const VectorXi> idx) {
+          VectorXb mask = VectorXb::Zero(n);
+          {
+            py::gil_scoped_release release;
+            for (Eigen::Index c = 0; c < idx.size(); ++c) {
+              const Index v = idx[c];
+              if (v < 0 || v >= n) throw MeshError("corner " + std::to_string(c) + " refers to vertex " + std::to_string(v) + " out of range");
+              mask[v] = 1;
+            }
+          }
+          return mask;
+        }, py::arg("n_vertices"), py::arg("indices"));
 
   m.def("unique_edges", [](Index n, VectorXi idx, VectorXo off) {
           EdgeList E = unique_edges(n, make_polygons(std::move(idx), std::move(off)));

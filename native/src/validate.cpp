@@ -8,7 +8,7 @@
 namespace meshmark {
 
 namespace {
-std::string face_text(const Polygons& P, Offset f) {
+std::string face_text(const PolygonsView& P, Offset f) {
   std::ostringstream s;
   s << "(";
   const Offset b = P.offsets[f], e = P.offsets[f + 1];
@@ -32,12 +32,16 @@ void validate_vertices(const Eigen::Ref<const MatrixX3dR>& V) {
 }
 
 void validate_polygons(Index n_vertices, const Polygons& P) {
-  const Offset m = P.n_faces();
-  if (m == 0) throw MeshError("mesh has no faces");
+  validate_polygons(n_vertices, PolygonsView{P.indices.data(), P.n_corners(), P.offsets.data(), P.n_faces()});
+}
+
+void validate_polygons(Index n_vertices, const PolygonsView& P) {
+  const Offset m = P.n_faces;
+  if (m <= 0) throw MeshError("mesh has no faces");
   if (P.offsets[0] != 0) throw MeshError("face offsets must start at 0");
-  if (P.offsets[m] != P.n_corners()) {
+  if (P.offsets[m] != P.n_corners) {
     std::ostringstream s;
-    s << "face offsets end at " << P.offsets[m] << " but there are " << P.n_corners() << " corners";
+    s << "face offsets end at " << P.offsets[m] << " but there are " << P.n_corners << " corners";
     throw MeshError(s.str());
   }
   for (Offset f = 0; f < m; ++f) {
@@ -73,6 +77,10 @@ void validate_polygons(Index n_vertices, const Polygons& P) {
 }
 
 void validate_mesh(const Eigen::Ref<const MatrixX3dR>& V, const Polygons& P) {
+  validate_mesh(V, PolygonsView{P.indices.data(), P.n_corners(), P.offsets.data(), P.n_faces()});
+}
+
+void validate_mesh(const Eigen::Ref<const MatrixX3dR>& V, const PolygonsView& P) {
   validate_vertices(V);
   if (V.rows() > static_cast<Eigen::Index>(INT32_MAX)) throw MeshError("mesh has more than 2^31-1 vertices");
   validate_polygons(static_cast<Index>(V.rows()), P);

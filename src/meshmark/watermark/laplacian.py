@@ -34,9 +34,8 @@ def _edges(mesh: Mesh) -> np.ndarray:
 
 
 def _referenced(mesh: Mesh) -> np.ndarray:
-    mask = np.zeros(mesh.n_vertices, np.uint8)
-    mask[mesh.face_indices] = 1
-    return mask
+    """(n,) uint8: 1 for the vertices used by a face (native)."""
+    return _core.referenced_mask(mesh.n_vertices, mesh.face_indices)
 
 
 def mean_edge_length(V: np.ndarray, E: np.ndarray) -> float:
