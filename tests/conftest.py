@@ -29,6 +29,15 @@ def sources_table():
     return rows
 
 
+def random_rotation(rng) -> np.ndarray:
+    """A uniformly random proper rotation (QR of a Gaussian matrix, det = +1)."""
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q *= np.sign(np.diag(r))
+    if np.linalg.det(q) < 0:
+        q[:, 0] *= -1
+    return q
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)

@@ -19,12 +19,7 @@ from conftest import shared_mesh
 DIAG = lambda V: float(np.linalg.norm(V.max(0) - V.min(0)))
 
 
-def random_rotation(rng):
-    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
-    q *= np.sign(np.diag(r))
-    if np.linalg.det(q) < 0:
-        q[:, 0] *= -1
-    return q
+from conftest import random_rotation  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -15,12 +15,7 @@ def numpy_edges(F):
     return np.unique(E, axis=0, return_counts=True)
 
 
-def random_rotation(rng):
-    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
-    q *= np.sign(np.diag(r))
-    if np.linalg.det(q) < 0:
-        q[:, 0] *= -1
-    return q
+from conftest import random_rotation  # noqa: E402
 
 
 def test_mesh_from_arrays_and_polygons():

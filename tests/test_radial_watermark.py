@@ -22,12 +22,7 @@ CLASSIC = ["bunny.obj", "horse.ply", "elephant.off", "fandisk.obj", "cow.obj", "
 METHODS = ["cho-mean", "cho-variance", "radial"]
 
 
-def random_rotation(rng):
-    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
-    q *= np.sign(np.diag(r))
-    if np.linalg.det(q) < 0:
-        q[:, 0] *= -1
-    return q
+from conftest import random_rotation  # noqa: E402
 
 
 def referenced(m):

@@ -61,11 +61,7 @@ class _Cho:
 
     # -- parameters -----------------------------------------------------------------------------
     def resolve(self, mesh: Mesh, params: dict) -> dict:
-        unknown = set(params) - set(self.defaults)
-        if unknown:
-            raise MeshError(f"unknown parameter(s) for the {self.name} method: {', '.join(sorted(unknown))} "
-                            f"(known: {', '.join(self.defaults)})")
-        p = {**self.defaults, **{k: v for k, v in params.items() if v is not None}}
+        p = framework.merge_params(self.name, self.defaults, params)
         p["thesis_exact"] = bool(p["thesis_exact"])
         for k in ("guard", "center_iters"):
             if p[k] is None:

@@ -42,6 +42,15 @@ MAX_ROUNDS = 4
 METHODS: dict = {}
 
 
+def merge_params(method_name: str, defaults: dict, params: dict) -> dict:
+    """``defaults`` overridden by the non-None ``params``; MeshError naming any unknown parameter."""
+    unknown = set(params) - set(defaults)
+    if unknown:
+        raise MeshError(f"unknown parameter(s) for the {method_name} method: {', '.join(sorted(unknown))} "
+                        f"(known: {', '.join(defaults)})")
+    return {**defaults, **{k: v for k, v in params.items() if v is not None}}
+
+
 def register(method) -> None:
     METHODS[method.name] = method
 

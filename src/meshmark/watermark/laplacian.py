@@ -54,11 +54,7 @@ class _Laplacian:
 
     # -- parameters -----------------------------------------------------------------------------
     def resolve(self, mesh: Mesh, params: dict) -> dict:
-        unknown = set(params) - set(DEFAULTS)
-        if unknown:
-            raise MeshError(f"unknown parameter(s) for the laplacian method: {', '.join(sorted(unknown))} "
-                            f"(known: {', '.join(DEFAULTS)})")
-        p = {**DEFAULTS, **{k: v for k, v in params.items() if v is not None}}
+        p = framework.merge_params("laplacian", DEFAULTS, params)
         n_ref = int(_referenced(mesh).sum())
         if p["K"] is None:
             p["K"] = int(math.ceil(n_ref / 70))  # §7.4: K = ceil(N / N_c), N_c = 70

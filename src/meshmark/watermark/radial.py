@@ -57,11 +57,7 @@ class _Radial:
     name = NAME
 
     def resolve(self, mesh: Mesh, params: dict) -> dict:
-        unknown = set(params) - set(DEFAULTS)
-        if unknown:
-            raise MeshError(f"unknown parameter(s) for the radial method: {', '.join(sorted(unknown))} "
-                            f"(known: {', '.join(DEFAULTS)})")
-        p = {**DEFAULTS, **{k: v for k, v in params.items() if v is not None}}
+        p = framework.merge_params("radial", DEFAULTS, params)
         p["K"], p["origin_iters"] = int(p["K"]), int(p["origin_iters"])
         if p["K"] < 4:
             raise MeshError(f"K must be at least 4 bins, got {p['K']}")
