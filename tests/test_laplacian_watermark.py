@@ -265,3 +265,94 @@ def test_skewed_histogram_disables_the_range_search():
     bunny = meshmark.read_mesh(shared_mesh("classic/bunny.obj"))
     assert L.embed(bunny, payload="M", key="b").keyfile.side_info["range_search"] is True
 
+
+
+# --- reconstruction: iterative (default) vs direct ---------------------------------------------
+def test_iterative_and_direct_solves_carry_the_same_mark(bunny):
+    """Both reconstructions carry every bit with the margin of eq. 7.2.16; the iterative one (PCG
+    rounds, docs/laplacian.md "Iterative reconstruction") moves the surface less than the exact solve."""
+    out = {}
+    for solver in ("iterative", "direct"):
+        r = L.embed(bunny, payload="(c)ACME", key="s3cret", solver=solver)
+        x = L.extract(r.V, bunny, keyfile=r.keyfile)
+        assert x.cdr == 1.0 and x.message == "(c)ACME"
+        E, d, _ = L.METHOD._lengths(bunny.with_vertices(r.V), r.keyfile.params)
+        c1, c2 = L._pair_counts(np.sort(d[bunny.referenced() == 1]), r.keyfile.side_info["lo"],
+                                r.keyfile.side_info["hi"], r.keyfile.params["K"], r.keyfile.side_info["carriers"])
+        margin = np.abs(c1 - c2) / (c1 + c2)
+        rmse = np.sqrt(((r.V - bunny.V) ** 2).sum(1).mean()) / DIAG(bunny.V)
+        out[solver] = (margin, rmse, r.stats)
+    (mi, ri, si), (md, rd, sd) = out["iterative"], out["direct"]
+    # n_robust = 5: the moved pairs end near |c1 - c2| / f = 0.4; measured min 0.387 vs 0.382, mean 0.40 both
+    assert mi.min() >= 0.35 and md.min() >= 0.35
+    assert abs(mi.mean() - md.mean()) < 0.01
+    assert si["n_solve_rounds"] >= 2 and si["n_pcg_iterations"] == 5 * si["n_solve_rounds"]
+    assert sd["n_solve_rounds"] == 1 and sd["n_pcg_iterations"] == 0
+    assert ri < 0.6 * rd  # measured 3.8e-4 vs 1.1e-3 of the diagonal
+
+
+def test_unknown_solver_is_an_error(bunny):
+    with pytest.raises(MeshError, match="solver must be one of iterative, direct"):
+        L.capacity(bunny, solver="cg")
+
+
+def _range_factor_numpy(d_sorted, lo, hi, K, ids, span=0.1, min_gain=0.05):
+    """The range search written with numpy.searchsorted: the reference for the native one."""
+    ids = np.asarray(ids)
+
+    def score(ts):
+        lo_t, delta = (lo * ts)[:, None], ((hi - lo) * ts / K)[:, None]
+        k = 2 * ids + 1
+        n0, n1, n2 = (np.searchsorted(d_sorted, lo_t + delta * (k + i), side="left") for i in range(3))
+        c1, c2 = n1 - n0, n2 - n1
+        return (np.abs(c1 - c2) / np.maximum(c1 + c2, 1)).mean(axis=1)
+
+    ts = np.concatenate([[1.0], np.linspace(1 - span, 1 + span, 201)])
+    t = ts[int(np.argmax(score(ts)))]
+    ts = np.concatenate([[t], np.linspace(t - 1e-3, t + 1e-3, 51)])
+    sc = score(ts)
+    return float(ts[int(np.argmax(sc))]) if sc.max() > score(np.array([1.0]))[0] + min_gain else 1.0
+
+
+def test_native_pair_counts_and_range_factor_match_numpy(marked_bunny):
+    m, r = marked_bunny
+    kf = r.keyfile
+    ids = np.asarray(kf.side_info["carriers"])
+    lo, hi, K = kf.side_info["lo"], kf.side_info["hi"], kf.params["K"]
+    for scale in (1.0, 1.03, 0.97):  # the mean edge length off by 3 %: the search must find it
+        _, d, _ = L.METHOD._lengths(m.with_vertices(r.V), kf.params)
+        d = np.sort(d[m.referenced() == 1]) * scale
+        c1, c2 = L._pair_counts(d, lo, hi, K, ids)
+        e = lo + (hi - lo) / K * (2 * ids + 1)[:, None] + (hi - lo) / K * np.arange(3)
+        n = np.searchsorted(d, e, side="left")
+        assert np.array_equal(c1, n[:, 1] - n[:, 0]) and np.array_equal(c2, n[:, 2] - n[:, 1])
+        t_native = L._range_factor(d, lo, hi, K, ids)
+        t_numpy = _range_factor_numpy(d, lo, hi, K, ids)
+        assert abs(t_native - t_numpy) < 1e-9
+        assert abs(t_native - scale) < 2e-3 if scale != 1.0 else t_native == 1.0
+
+
+def test_edge_based_lengths_match_the_kirchhoff_product(bunny):
+    E = bunny.edges()
+    d, mel = _core.laplacian_lengths_scaled(bunny.V, E, 0.0)
+    n = bunny.n_vertices
+    A = sp.coo_matrix((np.ones(len(E)), (E[:, 0], E[:, 1])), shape=(n, n))
+    A = (A + A.T).tocsr()
+    Kx = sp.diags(np.asarray(A.sum(1)).ravel()) @ bunny.V - A @ bunny.V  # eq. 7.1.2
+    assert np.allclose(d, np.linalg.norm(Kx, axis=1), rtol=1e-12, atol=1e-15)
+    assert mel == pytest.approx(np.linalg.norm(bunny.V[E[:, 0]] - bunny.V[E[:, 1]], axis=1).mean(), rel=1e-12)
+    with pytest.raises(MeshError, match="outside 0.."):
+        _core.laplacian_lengths(bunny.V, np.array([[0, n]], np.int32), 0.0)
+
+
+def test_cached_lengths_follow_in_place_edits(bunny):
+    """Mesh.cached shares the lengths between embed, its verification and extract; an array edited
+    in place is recomputed, never served stale."""
+    m = bunny.copy()
+    p = L.METHOD.resolve(m, {})
+    d0 = L.METHOD._lengths(m, p)[1].copy()
+    assert L.METHOD._lengths(m, p)[1] is L.METHOD._lengths(m, p)[1]
+    m.V[:100] *= 1.01
+    d1 = L.METHOD._lengths(m, p)[1]
+    assert not np.array_equal(d0, d1)
+    assert np.array_equal(d1, _core.laplacian_lengths(m.V, m.edges(), 0.0) / L.mean_edge_length(m.V, m.edges()))

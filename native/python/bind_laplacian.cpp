@@ -3,6 +3,7 @@
 #include "meshmark/error.h"
 #include "meshmark/kirchhoff_matrix.h"
 #include "meshmark/laplacian_coordinates.h"
+#include "meshmark/laplacian_range_factor.h"
 #include "meshmark/laplacian_watermark.h"
 #include "meshmark/mean_edge_length.h"
 #include "meshmark/vertex_adjacency.h"
@@ -17,6 +18,11 @@ namespace meshmark::python {
 namespace {
 using VRef = Eigen::Ref<const MatrixX3dR>;
 using ERef = Eigen::Ref<const MatrixX2iR>;
+
+void check_edges(const VRef& V, const ERef& E) {
+  if (E.rows() && (E.minCoeff() < 0 || E.maxCoeff() >= V.rows()))
+    throw MeshError("edge list refers to a vertex outside 0.." + std::to_string(V.rows() - 1));
+}
 
 LaplacianHistogram make_hist(VectorXi bin, VectorXi counts, double lo, double hi) {
   LaplacianHistogram h;
@@ -55,8 +61,38 @@ void bind_laplacian(py::module_& m) {
 
   m.def("laplacian_lengths", [](VRef V, ERef E, double eps) {
           py::gil_scoped_release release;
-          return laplacian_lengths(V, vertex_adjacency(static_cast<Index>(V.rows()), E), eps);
+          check_edges(V, E);
+          return laplacian_lengths(V, E, eps);
         }, py::arg("V"), py::arg("E"), py::arg("eps") = 0.0);
+
+  m.def("laplacian_lengths_scaled", [](VRef V, ERef E, double eps) {
+          check_edges(V, E);
+          double mel = 0;
+          Eigen::VectorXd d;
+          {
+            py::gil_scoped_release release;
+            d = laplacian_lengths(V, E, eps, &mel);
+          }
+          return py::make_tuple(std::move(d), mel);
+        }, py::arg("V"), py::arg("E"), py::arg("eps") = 0.0,
+        "(d, mean_edge_length): the Laplacian lengths (eq. 7.1.5) and the mean edge length in one pass");
+
+  m.def("laplacian_pair_counts", [](Eigen::Ref<const Eigen::VectorXd> d_sorted, double lo, double hi, int K,
+                                    std::vector<long long> ids) {
+          std::vector<long long> c1, c2;
+          {
+            py::gil_scoped_release release;
+            laplacian_pair_counts(d_sorted, lo, hi, K, ids, c1, c2);
+          }
+          return py::make_tuple(c1, c2);
+        }, py::arg("d_sorted"), py::arg("lo"), py::arg("hi"), py::arg("K"), py::arg("ids"));
+
+  m.def("laplacian_range_factor", [](Eigen::Ref<const Eigen::VectorXd> d_sorted, double lo, double hi, int K,
+                                     std::vector<long long> ids, double span, double min_gain) {
+          py::gil_scoped_release release;
+          return laplacian_range_factor(d_sorted, lo, hi, K, ids, span, min_gain);
+        }, py::arg("d_sorted"), py::arg("lo"), py::arg("hi"), py::arg("K"), py::arg("ids"), py::arg("span") = 0.1,
+        py::arg("min_gain") = 0.05);
 
   m.def("laplacian_histogram", [](Eigen::Ref<const Eigen::VectorXd> d, int K, double lo, double hi,
                                   Eigen::Ref<const VectorXb> mask) {
@@ -67,7 +103,7 @@ void bind_laplacian(py::module_& m) {
 
   m.def("laplacian_embed", [](VRef V, ERef E, VectorXi bin, VectorXi counts, double lo, double hi,
                               std::vector<int> pairs, std::vector<int> bits, int n_robust, double eps,
-                              bool thesis_exact, double scale) {
+                              bool thesis_exact, double scale, int iterations, int max_rounds) {
           if (bin.size() != V.rows()) throw MeshError("bin and V differ in length");
           const LaplacianHistogram h = make_hist(std::move(bin), std::move(counts), lo, hi);
           LaplacianEmbedOptions o;
@@ -75,15 +111,18 @@ void bind_laplacian(py::module_& m) {
           o.eps = eps;
           o.thesis_exact = thesis_exact;
           o.scale = scale;
+          o.iterations = iterations;
+          o.max_rounds = max_rounds;
           LaplacianEmbedResult r;
           {
             py::gil_scoped_release release;
             r = laplacian_embed(V, vertex_adjacency(static_cast<Index>(V.rows()), E), h, pairs, bits, o);
           }
-          return py::make_tuple(std::move(r.V), std::move(r.d_target), r.n_moved);
+          return py::make_tuple(std::move(r.V), std::move(r.d_target), r.n_moved, r.rounds, r.iterations);
         }, py::arg("V"), py::arg("E"), py::arg("bin"), py::arg("counts"), py::arg("lo"), py::arg("hi"),
         py::arg("pairs"), py::arg("bits"), py::arg("n_robust") = 5, py::arg("eps") = 1e-5,
-        py::arg("thesis_exact") = false, py::arg("scale") = 1.0);
+        py::arg("thesis_exact") = false, py::arg("scale") = 1.0, py::arg("iterations") = 5,
+        py::arg("max_rounds") = 8);
 }
 
 }  // namespace meshmark::python

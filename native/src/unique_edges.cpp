@@ -26,30 +26,34 @@ EdgeList unique_edges(Index n_vertices, const Polygons& P) {
       other[fill[std::min(u, v)]++] = std::max(u, v);
     }
   }
-  std::vector<Index> ea, eb, cnt;
-  ea.reserve(other.size() / 2 + 1);
-  eb.reserve(other.size() / 2 + 1);
-  cnt.reserve(other.size() / 2 + 1);
+  // Sort each bucket (a handful of entries: insertion sort), then write the distinct pairs with their
+  // multiplicities straight into the output, sized for the worst case and trimmed at the end.
+  EdgeList out;
+  const Offset total = start[n_vertices];
+  out.E.resize(static_cast<Eigen::Index>(total), 2);
+  out.face_count.resize(static_cast<Eigen::Index>(total));
+  Eigen::Index ne = 0;
   for (Index a = 0; a < n_vertices; ++a) {
-    auto first = other.begin() + start[a], last = other.begin() + start[a + 1];
-    std::sort(first, last);
-    for (auto it = first; it != last;) {
-      auto jt = it;
+    Index* first = other.data() + start[a];
+    Index* last = other.data() + start[a + 1];
+    for (Index* it = first + 1; it < last; ++it) {
+      const Index x = *it;
+      Index* j = it;
+      for (; j > first && *(j - 1) > x; --j) *j = *(j - 1);
+      *j = x;
+    }
+    for (Index* it = first; it != last;) {
+      Index* jt = it + 1;
       while (jt != last && *jt == *it) ++jt;
-      ea.push_back(a);
-      eb.push_back(*it);
-      cnt.push_back(static_cast<Index>(jt - it));
+      out.E(ne, 0) = a;
+      out.E(ne, 1) = *it;
+      out.face_count[ne] = static_cast<Index>(jt - it);
+      ++ne;
       it = jt;
     }
   }
-  EdgeList out;
-  out.E.resize(static_cast<Eigen::Index>(ea.size()), 2);
-  out.face_count.resize(static_cast<Eigen::Index>(ea.size()));
-  for (size_t i = 0; i < ea.size(); ++i) {
-    out.E(i, 0) = ea[i];
-    out.E(i, 1) = eb[i];
-    out.face_count[i] = cnt[i];
-  }
+  out.E.conservativeResize(ne, 2);
+  out.face_count.conservativeResize(ne);
   return out;
 }
 

@@ -98,11 +98,12 @@ class Mesh:
         (default True). Raises :class:`MeshError` naming the first bad vertex or face.
     """
 
-    __slots__ = ("V", "face_indices", "face_offsets")
+    __slots__ = ("V", "face_indices", "face_offsets", "_topology")
 
     def __init__(self, V, F, *, validate: bool = True):
         self.V = _as_vertices(V)
         self.face_indices, self.face_offsets = _as_polygons(F)
+        self._topology = {}
         if validate:
             _core.validate(self.V, self.face_indices, self.face_offsets)
 
@@ -119,6 +120,7 @@ class Mesh:
             raise MeshError(f"indices and offsets must be 1-D, got shapes {idx.shape} and {off.shape}")
         m.face_indices = _checked_indices(idx, "indices")
         m.face_offsets = np.ascontiguousarray(off, dtype=np.int64)
+        m._topology = {}
         if validate:
             _core.validate(m.V, m.face_indices, m.face_offsets)
         return m
@@ -160,6 +162,34 @@ class Mesh:
             return self.face_indices.reshape(-1, 3)
         return _core.triangulate(self.V, self.face_indices, self.face_offsets)[0]
 
+    # --- topology (cached: faces are treated as immutable once in a Mesh) ---------------------
+    def edges(self) -> np.ndarray:
+        """(e, 2) int32 unique edges (i < j) of the polygon edge graph, computed once per face set
+        and shared by the meshes made with :meth:`with_vertices`."""
+        if "edges" not in self._topology:
+            self._topology["edges"] = _core.unique_edges(self.n_vertices, self.face_indices, self.face_offsets)[0]
+        return self._topology["edges"]
+
+    def referenced(self) -> np.ndarray:
+        """(n,) uint8: 1 for the vertices used by a face (cached like :meth:`edges`)."""
+        if "referenced" not in self._topology:
+            self._topology["referenced"] = _core.referenced_mask(self.n_vertices, self.face_indices)
+        return self._topology["referenced"]
+
+    def cached(self, key, compute):
+        """``compute()`` for these positions and faces, remembered for the two most recent vertex
+        arrays on this face set (matched by identity and checksum, so an array edited in place is
+        recomputed): lets embed, its verification and extract share per-vertex work."""
+        cache = self._topology.setdefault("derived", [])
+        check = float(self.V.sum())
+        for V, k, c, value in cache:
+            if V is self.V and k == key and (c == check or (c != c and check != check)):
+                return value
+        value = compute()
+        cache.append((self.V, key, check, value))
+        del cache[:-2]
+        return value
+
     def copy(self) -> "Mesh":
         return Mesh.from_polygons(self.V.copy(), self.face_indices.copy(), self.face_offsets.copy(), validate=False)
 
@@ -168,7 +198,9 @@ class Mesh:
         V = _as_vertices(V)
         if V.shape[0] != self.n_vertices:
             raise MeshError(f"expected {self.n_vertices} vertices, got {V.shape[0]}")
-        return Mesh.from_polygons(V, self.face_indices, self.face_offsets)
+        m = Mesh.from_polygons(V, self.face_indices, self.face_offsets)
+        m._topology = self._topology
+        return m
 
     def __repr__(self) -> str:
         sizes = np.unique(self.face_sizes)
@@ -186,5 +218,5 @@ def as_mesh(V, F=None) -> Mesh:
     if F is None:
         raise MeshError("faces F are required when V is an array")
     if isinstance(F, Mesh):  # new positions on an existing mesh's faces
-        return Mesh.from_polygons(V, F.face_indices, F.face_offsets)
+        return F.with_vertices(V)
     return Mesh(V, F)

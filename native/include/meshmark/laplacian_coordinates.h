@@ -13,4 +13,10 @@ MatrixX3dR laplacian_coordinates(const Eigen::Ref<const MatrixX3dR>& V, const Ad
 // d_i = ||L_i||                                                                 (eq. 7.1.5)
 Eigen::VectorXd laplacian_lengths(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A, double eps = 0.0);
 
+// The same lengths straight from the unique edges (e,2), one pass over the edges and no adjacency:
+// the extraction's path. Also returns the mean edge length (the scale unit of docs/laplacian.md) if
+// `mean_edge_length` is given.
+Eigen::VectorXd laplacian_lengths(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX2iR>& E,
+                                  double eps = 0.0, double* mean_edge_length = nullptr);
+
 }  // namespace meshmark

@@ -41,12 +41,19 @@ struct LaplacianEmbedOptions {
                               // eps; false (default): see docs/laplacian.md (margin in every pair,
                               // moved lengths kept off bin edges, zero-mean update solved with +eps)
   double scale = 1.0;         // d used for binning = ||L_i|| / scale (meshmark: mean edge length)
+  // Reconstruction when !thesis_exact: iterations <= 0 solves (K + 1e-8 I) dX = dL exactly (CHOLMOD);
+  // iterations > 0 (default) runs rounds of that many PCG steps, re-reading the histogram after each
+  // and topping up the pairs that lack part of their margin, at most max_rounds rounds.
+  int iterations = 5;
+  int max_rounds = 8;
 };
 
 struct LaplacianEmbedResult {
   MatrixX3dR V;               // marked vertices
   Eigen::VectorXd d_target;   // (n,) target lengths d^ (eqs. 7.2.14-7.2.15), in binning units
-  int n_moved = 0;            // elements transferred between bins
+  int n_moved = 0;            // elements transferred between bins (all rounds)
+  int rounds = 0;             // reconstruction rounds (1 for the direct solve)
+  int iterations = 0;         // PCG steps over all rounds (0 for the direct solve)
 };
 
 // Embeds bits[c] (+1 or -1) into pairs[c] (eqs. 7.2.13-7.2.16, 7.2.19) and reconstructs the

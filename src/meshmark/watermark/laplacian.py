@@ -26,16 +26,17 @@ from ..mesh import Mesh, as_mesh
 from . import framework
 
 NAME = "laplacian"
-DEFAULTS = {"K": None, "n_thr": 46, "n_robust": 5, "eps": 1e-5, "thesis_exact": False}
+DEFAULTS = {"K": None, "n_thr": 46, "n_robust": 5, "eps": 1e-5, "thesis_exact": False, "solver": "iterative"}
+SOLVERS = {"iterative": 5, "direct": 0}  # PCG steps per round (docs/laplacian.md); 0 = one exact solve
 
 
 def _edges(mesh: Mesh) -> np.ndarray:
-    return _core.unique_edges(mesh.n_vertices, mesh.face_indices, mesh.face_offsets)[0]
+    return mesh.edges()
 
 
 def _referenced(mesh: Mesh) -> np.ndarray:
-    """(n,) uint8: 1 for the vertices used by a face (native)."""
-    return _core.referenced_mask(mesh.n_vertices, mesh.face_indices)
+    """(n,) uint8: 1 for the vertices used by a face (native, cached on the mesh)."""
+    return mesh.referenced()
 
 
 def mean_edge_length(V: np.ndarray, E: np.ndarray) -> float:
@@ -68,6 +69,8 @@ class _Laplacian:
             raise MeshError(f"n_robust must be >= 1, got {p['n_robust']}")
         if not p["eps"] > 0:
             raise MeshError(f"eps must be > 0, got {p['eps']}")
+        if p["solver"] not in SOLVERS:
+            raise MeshError(f"solver must be one of {', '.join(SOLVERS)}, got {p['solver']!r}")
         return p
 
     def describe(self, p: dict) -> str:
@@ -75,11 +78,17 @@ class _Laplacian:
 
     # -- the histogram --------------------------------------------------------------------------
     def _lengths(self, mesh: Mesh, p: dict):
-        E = _edges(mesh)
+        """(E, d / scale, scale): edges, normalised Laplacian lengths (eq. 7.1.5) and the scale unit,
+        computed once per mesh (native, one pass over the edges)."""
         eps = p["eps"] if p["thesis_exact"] else 0.0
-        d = _core.laplacian_lengths(mesh.V, E, eps)
-        scale = 1.0 if p["thesis_exact"] else mean_edge_length(mesh.V, E)
-        return E, d / scale, scale
+
+        def compute():
+            E = _edges(mesh)
+            d, mel = _core.laplacian_lengths_scaled(mesh.V, E, eps)
+            scale = 1.0 if p["thesis_exact"] else mel
+            return E, d / scale, scale
+
+        return mesh.cached(("laplacian_lengths", eps, bool(p["thesis_exact"])), compute)
 
     def carriers(self, mesh: Mesh, p: dict):
         E, d, scale = self._lengths(mesh, p)
@@ -99,20 +108,20 @@ class _Laplacian:
     def embed(self, mesh: Mesh, p: dict, side: dict, ids, bits):
         E, bins, counts, scale = self._histogram(mesh, p, side)
         pm = np.where(np.asarray(bits) > 0, 1, -1)
-        V, _, n_moved = _core.laplacian_embed(mesh.V, E, bins, counts, side["lo"], side["hi"],
-                                              [int(i) for i in ids], pm.tolist(), p["n_robust"], p["eps"],
-                                              p["thesis_exact"], scale)
+        V, _, n_moved, rounds, iters = _core.laplacian_embed(
+            mesh.V, E, bins, counts, side["lo"], side["hi"], [int(i) for i in ids], pm.tolist(), p["n_robust"],
+            p["eps"], p["thesis_exact"], scale, SOLVERS[p.get("solver", "iterative")])
         side = dict(side)
         if not p["thesis_exact"]:  # express the range in units of the marked mesh's mean edge length
-            r = scale / mean_edge_length(V, E)
+            _, dm, scale_marked = self._lengths(mesh.with_vertices(V), p)
+            r = scale / scale_marked
             side["lo"], side["hi"] = side["lo"] * r, side["hi"] * r
             # The range search may be used at extraction only if, on the marked mesh itself, it finds
             # t = 1: on skewed histograms (huge first bins) a shifted range can score higher by chance.
-            _, dm, _ = self._lengths(mesh.with_vertices(V), p)
             dm = np.sort(dm[_referenced(mesh) == 1])
             t = _range_factor(dm, side["lo"], side["hi"], p["K"], np.asarray(ids, np.int64))
             side["range_search"] = bool(side.get("range_search", True) and abs(t - 1.0) < 1e-3)
-        return V, side, {"n_moved": int(n_moved)}
+        return V, side, {"n_moved": int(n_moved), "n_solve_rounds": int(rounds), "n_pcg_iterations": int(iters)}
 
     def extract(self, mesh: Mesh, p: dict, side: dict, ids):
         ids = np.asarray(ids, np.int64)
@@ -130,41 +139,22 @@ class _Laplacian:
         return bits, soft
 
 
-def _pair_counts(d_sorted: np.ndarray, lo, hi, K: int, ids: np.ndarray):
-    """|B_k|, |B_k+1| of the carrier pairs ids (eq. 7.1.6), for one range or arrays of ranges.
-
-    ``lo``/``hi`` may be arrays (one range per row); ``d_sorted`` is sorted ascending. Bins are
-    half-open [edge_k, edge_k+1) as in laplacian_histogram; values outside [lo, hi] are not counted.
-    """
-    lo = np.asarray(lo, float)[..., None]
-    delta = (np.asarray(hi, float)[..., None] - lo) / K
-    k = 2 * ids + 1
-    e0, e1, e2 = lo + delta * k, lo + delta * (k + 1), lo + delta * (k + 2)
-    n0, n1, n2 = (np.searchsorted(d_sorted, e, side="left") for e in (e0, e1, e2))
-    return n1 - n0, n2 - n1
+def _pair_counts(d_sorted: np.ndarray, lo: float, hi: float, K: int, ids: np.ndarray):
+    """|B_k|, |B_k+1| of the carrier pairs ids (eq. 7.1.6) in the ascending lengths d_sorted; bins are
+    half-open [edge_k, edge_k+1) as in laplacian_histogram; values outside [lo, hi] are not counted."""
+    c1, c2 = _core.laplacian_pair_counts(d_sorted, lo, hi, K, np.asarray(ids, np.int64).tolist())
+    return np.asarray(c1), np.asarray(c2)
 
 
 def _range_factor(d_sorted, lo, hi, K, ids, span=0.1, min_gain=0.05) -> float:
     """The factor t in [1 - span, 1 + span] whose range (t lo, t hi) gives the carrier pairs the
-    largest mean relative margin |c1 - c2| / (c1 + c2): a deformation or smoothing changes the mean
-    edge length (our scale unit) by up to a few per cent, which shifts far bins by several bin widths
-    (docs/laplacian.md, "Beyond the thesis" (c)). The score ignores the bit values, so it is the same
-    for every key. Coarse grid (0.1 % steps), then a fine one (0.004 % steps) around the best. The
-    factor is used only if it raises the score by more than ``min_gain`` over t = 1: on small meshes
-    with few elements per pair the score is noisy and t = 1 is the better bet."""
-    if ids.size == 0:
-        return 1.0
-
-    def score(ts):
-        c1, c2 = _pair_counts(d_sorted, lo * ts, hi * ts, K, ids)
-        return (np.abs(c1 - c2) / np.maximum(c1 + c2, 1)).mean(axis=1)
-
-    ts = np.concatenate([[1.0], np.linspace(1 - span, 1 + span, 201)])
-    t = ts[int(np.argmax(score(ts)))]
-    ts = np.concatenate([[t], np.linspace(t - 1e-3, t + 1e-3, 51)])
-    sc = score(ts)
-    base = float(score(np.array([1.0]))[0])
-    return float(ts[int(np.argmax(sc))]) if sc.max() > base + min_gain else 1.0
+    largest mean relative margin |c1 - c2| / (c1 + c2) (native, ``laplacian_range_factor.h``): a
+    deformation or smoothing changes the mean edge length (our scale unit) by up to a few per cent,
+    which shifts far bins by several bin widths (docs/laplacian.md, "Beyond the thesis" (c)). The
+    score ignores the bit values, so it is the same for every key. Coarse grid (0.1 % steps), then a
+    fine one (0.004 % steps) around the best; t is used only if it raises the score by more than
+    ``min_gain`` over t = 1."""
+    return float(_core.laplacian_range_factor(d_sorted, lo, hi, K, np.asarray(ids, np.int64).tolist(), span, min_gain))
 
 
 METHOD = _Laplacian()
