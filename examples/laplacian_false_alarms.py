@@ -4,7 +4,7 @@
 
 1. Wrong keys: Bunny, Horse and Elephant are marked under one key; extraction with N random wrong
    keys must never report `detected`. The NC of each try goes to wrong_keys.csv.
-2. Unmarked meshes: for every OBJ/OFF/PLY/STL mesh in ../shared/meshes (corpus included) that can
+2. Unmarked meshes: for every OBJ/OFF/PLY/STL mesh in ../shared/meshes (corpus and corpus-large included) that can
    carry a framed payload, K keyfiles are made by embedding random payloads (1..16 bits) under random
    keys; extracting from the unmarked original with each must never report `detected`.
 """
@@ -50,8 +50,7 @@ def main():
             print(f"wrong keys  {rel:<24} n={a.keys} bits={r.capacity} detected={hits} NC mean {ncs.mean():+.3f} "
                   f"sd {ncs.std():.3f} min {ncs.min():+.3f} max {ncs.max():+.3f}", flush=True)
 
-    files = sorted(p for p in SHARED.rglob("*") if p.suffix.lower() in {".obj", ".off", ".ply", ".stl"}
-                   and "corpus-large" not in p.parts)
+    files = sorted(p for p in SHARED.rglob("*") if p.suffix.lower() in {".obj", ".off", ".ply", ".stl"})
     total = hits = skipped = 0
     with open(out / "unmarked.csv", "w", newline="") as f:
         w = csv.writer(f)
