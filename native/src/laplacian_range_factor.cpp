@@ -7,34 +7,52 @@ namespace meshmark {
 
 namespace {
 
-// Index of the first element >= x in d[from:], by galloping forward from `from` (the edges of one
-// range are visited in ascending order, so each search starts where the last one ended).
-size_t gallop(const Eigen::Ref<const Eigen::VectorXd>& d, size_t from, double x) {
-  size_t step = 1, lo = from, hi = from;
-  while (hi < static_cast<size_t>(d.size()) && d[hi] < x) {
-    lo = hi + 1;
-    hi = from + step;
-    step *= 2;
-  }
-  hi = std::min(hi, static_cast<size_t>(d.size()));
-  return static_cast<size_t>(std::lower_bound(d.data() + lo, d.data() + hi, x) - d.data());
-}
+// lower_bound over the sorted lengths through a table of bucket starts: the searches of the range
+// scan fall into [x0, x1), cut into equal buckets, each holding a handful of lengths.
+struct SortedIndex {
+  const double* d;
+  size_t n;
+  double x0 = 0, inv_w = 0;
+  std::vector<size_t> first;  // first[b] = #d < x0 + b w
 
-// Mean relative margin of the carrier pairs for the range (lo, hi); `sorted_ids` ascending.
-double score(const Eigen::Ref<const Eigen::VectorXd>& d, double lo, double hi, int K, const std::vector<long long>& sorted_ids) {
+  SortedIndex(const Eigen::Ref<const Eigen::VectorXd>& v, double lo, double hi) : d(v.data()), n(static_cast<size_t>(v.size())) {
+    const size_t buckets = std::max<size_t>(1024, n / 2);
+    x0 = lo;
+    const double w = (hi - lo) / static_cast<double>(buckets);
+    inv_w = w > 0 ? 1.0 / w : 0.0;
+    first.resize(buckets + 2);
+    size_t i = 0;
+    for (size_t b = 0; b <= buckets + 1; ++b) {
+      const double x = x0 + static_cast<double>(b) * w;
+      while (i < n && d[i] < x) ++i;
+      first[b] = i;
+    }
+  }
+
+  size_t lower_bound(double x) const {
+    const double f = (x - x0) * inv_w;
+    if (inv_w == 0 || !(f >= 0) || f >= static_cast<double>(first.size() - 1))
+      return static_cast<size_t>(std::lower_bound(d, d + n, x) - d);
+    const size_t b = static_cast<size_t>(f);
+    // the bucket's range may be off by an ulp of the grid: widen by one bucket on each side
+    const size_t s = first[b > 0 ? b - 1 : 0], e = first[std::min(b + 2, first.size() - 1)];
+    return static_cast<size_t>(std::lower_bound(d + s, d + e, x) - d);
+  }
+};
+
+// Mean relative margin of the carrier pairs for the range (lo, hi).
+double score(const SortedIndex& idx, double lo, double hi, int K, const std::vector<long long>& ids) {
   const double delta = (hi - lo) / K;  // eq. 7.1.7
-  size_t pos = 0;
   double s = 0;
-  for (long long j : sorted_ids) {
+  for (long long j : ids) {
     const double k = static_cast<double>(2 * j + 1);
-    const size_t n0 = gallop(d, pos, lo + delta * k);
-    const size_t n1 = gallop(d, n0, lo + delta * (k + 1));
-    const size_t n2 = gallop(d, n1, lo + delta * (k + 2));
+    const size_t n0 = idx.lower_bound(lo + delta * k);
+    const size_t n1 = idx.lower_bound(lo + delta * (k + 1));
+    const size_t n2 = idx.lower_bound(lo + delta * (k + 2));
     const double a = static_cast<double>(n1 - n0), b = static_cast<double>(n2 - n1);
     s += std::abs(a - b) / std::max(a + b, 1.0);
-    pos = n0;
   }
-  return s / static_cast<double>(sorted_ids.size());
+  return s / static_cast<double>(ids.size());
 }
 
 }  // namespace
@@ -57,22 +75,30 @@ void laplacian_pair_counts(const Eigen::Ref<const Eigen::VectorXd>& d, double lo
 double laplacian_range_factor(const Eigen::Ref<const Eigen::VectorXd>& d, double lo, double hi, int K,
                               const std::vector<long long>& ids, double span, double min_gain) {
   if (ids.empty()) return 1.0;
+  // every edge searched lies in [lo (1 - span - 1e-3), hi (1 + span + 1e-3)]
+  const SortedIndex idx(d, lo * (1 - span - 2e-3), hi * (1 + span + 2e-3));
+  auto at = [&](double t, const std::vector<long long>& which) { return score(idx, lo * t, hi * t, K, which); };
+  // The coarse scan scores at most 256 carriers, evenly spaced over the sorted list (all of them
+  // below that): it only has to land within the fine scan's +-1e-3 of the best factor.
   std::vector<long long> sorted_ids(ids);
   std::sort(sorted_ids.begin(), sorted_ids.end());
-  auto at = [&](double t) { return score(d, lo * t, hi * t, K, sorted_ids); };
-  const double base = at(1.0);
+  std::vector<long long> coarse_ids;
+  const size_t n_coarse = std::min<size_t>(256, sorted_ids.size());
+  for (size_t i = 0; i < n_coarse; ++i) coarse_ids.push_back(sorted_ids[i * sorted_ids.size() / n_coarse]);
+  const double base = at(1.0, ids);
   // coarse: t = 1, then 201 values over [1 - span, 1 + span] (numpy.linspace); the first best wins
-  double best_t = 1.0, best = base;
+  double best_t = 1.0, best = at(1.0, coarse_ids);
   for (int i = 0; i <= 200; ++i) {
     const double t = (1 - span) + (2 * span) * i / 200.0;
-    const double s = at(t);
+    const double s = at(t, coarse_ids);
     if (s > best) best = s, best_t = t;
   }
-  // fine: the best, then 51 values within +-1e-3 of it
-  double t0 = best_t, fine_best = best;
+  // fine, with every carrier: the best, then 51 values within +-1e-3 of it
+  const double t0 = best_t;
+  double fine_best = at(t0, ids);
   for (int i = 0; i <= 50; ++i) {
     const double t = (t0 - 1e-3) + 2e-3 * i / 50.0;
-    const double s = at(t);
+    const double s = at(t, ids);
     if (s > fine_best) fine_best = s, best_t = t;
   }
   return fine_best > base + min_gain ? best_t : 1.0;

@@ -18,8 +18,8 @@ void laplacian_pair_counts(const Eigen::Ref<const Eigen::VectorXd>& d_sorted, do
                            const std::vector<long long>& ids, std::vector<long long>& c1,
                            std::vector<long long>& c2);
 
-// The factor t: a coarse grid of 201 values over [1 - span, 1 + span] (and t = 1 itself), then 51
-// values within +-1e-3 of the best. Returns 1 unless the best score exceeds the score at t = 1 by
+// The factor t: a coarse grid of 201 values over [1 - span, 1 + span] (and t = 1 itself) scored on
+// at most 256 evenly spaced carriers, then 51 values within +-1e-3 of the best scored on all. Returns 1 unless the best score exceeds the score at t = 1 by
 // more than min_gain (on small meshes the score is noisy and t = 1 is the better bet).
 double laplacian_range_factor(const Eigen::Ref<const Eigen::VectorXd>& d_sorted, double lo, double hi, int K,
                               const std::vector<long long>& ids, double span = 0.1, double min_gain = 0.05);

@@ -152,7 +152,8 @@ def _range_factor(d_sorted, lo, hi, K, ids, span=0.1, min_gain=0.05) -> float:
     deformation or smoothing changes the mean edge length (our scale unit) by up to a few per cent,
     which shifts far bins by several bin widths (docs/laplacian.md, "Beyond the thesis" (c)). The
     score ignores the bit values, so it is the same for every key. Coarse grid (0.1 % steps), then a
-    fine one (0.004 % steps) around the best; t is used only if it raises the score by more than
+    fine one (0.004 % steps) around the best (the coarse scan scores at most 256 evenly spaced
+    carriers, the fine one all); t is used only if it raises the score by more than
     ``min_gain`` over t = 1."""
     return float(_core.laplacian_range_factor(d_sorted, lo, hi, K, np.asarray(ids, np.int64).tolist(), span, min_gain))
 
