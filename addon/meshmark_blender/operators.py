@@ -232,6 +232,18 @@ class MESHMARK_OT_verify(_Base, bpy.types.Operator):
         result = {"ok": True, "object": obj.name, "keyfile": keyfile, "evaluated": bool(evaluated),
                   "frame": context.scene.frame_current, "n_input_vertices": mesh.n_vertices, **d,
                   "welded": res.n_merged > 0, "seconds_native": t_native}
+        if not res.same_vertex_count and not res.detected:
+            # A different mesh (or the wrong object): an error, not an answer. The core extracts blindly
+            # whatever the count (a simplified or cropped copy may still carry the mark), so a mark
+            # found despite a different count is reported below as a detection with a warning.
+            welded = f" after welding ({mesh.n_vertices} as stored)" if res.n_merged else ""
+            msg = (f"'{obj.name}' has {res.n_vertices} vertices{welded} but the keyfile was made for a mesh of "
+                   f"{res.expected_vertices}, and its mark is not found (NC {res.nc:.3f}, CDR {res.cdr:.3f}): "
+                   f"verify is run on a different mesh, or with the wrong keyfile")
+            result.update(ok=False, error=msg)
+            context.scene.meshmark.last_result = json.dumps(result, default=_json_default)
+            self.report({"ERROR"}, f"meshmark: {msg}")
+            return {"CANCELLED"}
         for w in res.warnings:
             self.report({"WARNING"}, f"meshmark: {w}")
         if res.detected:
