@@ -401,7 +401,7 @@ class MESHMARK_OT_load_keyfile(_Base, bpy.types.Operator):
         path = _abspath(self.filepath)
         kf = load_keyfile(path)  # validates before anything is set
         s = context.scene.meshmark
-        s.keyfile, s.method, s.key = path, kf.method, kf.key
+        s.keyfile, s.method, s.key, s.weld = path, kf.method, kf.key, kf.weld
         pl = Payload.from_bits(kf.payload["bits"])
         text = Payload(kf.payload["kind"], pl.data).message()
         if kf.payload["kind"] == "text":
@@ -412,7 +412,7 @@ class MESHMARK_OT_load_keyfile(_Base, bpy.types.Operator):
             if v is not None:
                 setattr(group, p.name, v)
         return self.finish(context, {"ok": True, "keyfile": path, "method": kf.method, "message": text,
-                                     "params": kf.params, "mesh": kf.mesh}, "INFO",
+                                     "params": kf.params, "weld": kf.weld, "mesh": kf.mesh}, "INFO",
                            f"meshmark: loaded keyfile {path} ({kf.method}, message {text!r})")
 
 
