@@ -149,8 +149,9 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     Returns an :class:`EmbedResult` with the marked vertices (one row per input vertex, in input
     order) and the keyfile; the input arrays are never modified. With ``weld=True`` (default) the
     method runs on the mesh with coincident vertices merged and every copy gets the same marked
-    position (copies that were bit-identical stay bit-identical). Raises MeshError (nothing changed) when the mesh is invalid, offers fewer than 8
-    carriers, or the framed message does not fit (the message states the capacity in bits).
+    position (copies that were bit-identical stay bit-identical). Raises MeshError (nothing
+    changed) when the mesh is invalid, offers fewer than 8 carriers, or the framed message does not
+    fit (the message states the capacity in bits).
     ``progress(fraction, text)`` is called as the work advances, if given.
     """
     report = progress or (lambda f, t: None)
