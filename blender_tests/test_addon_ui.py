@@ -11,6 +11,7 @@ import pytest
 
 import meshmark
 from blender_tests import rigs
+from blender_tests.rigs import last_result
 
 
 class CheckingLayout:
@@ -53,6 +54,7 @@ def test_panel_draws_with_and_without_a_mesh(addon):
                    "meshmark.verify", "meshmark.deformation_study"]
     props = [x[1] for x in log if x[0] == "prop"]
     assert props[:5] == ["method", "K", "n_thr", "n_robust", "eps"] and "message" in props and "key" in props
+    assert "weld" in props and bpy.context.scene.meshmark.weld is True
     s = bpy.context.scene.meshmark
     assert (s.method, s.params.laplacian.K, s.params.laplacian.n_thr, s.params.laplacian.n_robust) == ("laplacian", 0, 46, 5)
     assert abs(s.params.laplacian.eps - 1e-5) < 1e-12 and s.evaluated
@@ -78,9 +80,10 @@ def test_keyfile_save_and_load(addon, tmp_path):
     bpy.ops.meshmark.embed(message="E", key="secret", keyfile=str(tmp_path / "k.json"))
     assert bpy.ops.meshmark.save_keyfile(filepath=str(tmp_path / "copy.json")) == {"FINISHED"}
     s = bpy.context.scene.meshmark
-    s.message, s.key, s.params.laplacian.n_thr = "other", "", 10
+    s.message, s.key, s.params.laplacian.n_thr, s.weld = "other", "", 10, False
     assert bpy.ops.meshmark.load_keyfile(filepath=str(tmp_path / "copy.json")) == {"FINISHED"}
     assert (s.message, s.key, s.params.laplacian.n_thr, s.params.laplacian.K) == ("E", "secret", 46, 286)
+    assert s.weld is True and last_result()["weld"] is True
     assert s.keyfile == str(tmp_path / "copy.json")
 
 

@@ -1,7 +1,7 @@
 """(4) Round trips of a marked mesh through Blender: save and reopen the .blend; export and
 reimport with Blender's own OBJ, PLY, STL, glTF and FBX exporters (default settings); apply the
 armature modifier. Verify blindly with the keyfile in the rest pose. Exporters that split vertices
-(UV seams, sharp normals) are handled by the add-on welding exactly coincident vertices."""
+(UV seams, sharp normals) are handled by the core welding exactly coincident vertices."""
 import os
 
 import bpy

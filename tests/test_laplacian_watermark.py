@@ -150,7 +150,8 @@ def test_keyfile_validation(marked_bunny, tmp_path):
     assert load_keyfile(path).to_dict() == r.keyfile.to_dict()
     d = json.loads(path.read_text())
     for change, msg in [({"method": "radial-x"}, "unknown method 'radial-x'"),
-                        ({"version": 2}, "keyfile version 2 is not supported"),
+                        ({"version": 3}, "keyfile version 3 is not supported"),
+                        ({"weld": "yes"}, "'weld' is missing or not true/false"),
                         ({"format": "other"}, "not a meshmark keyfile")]:
         bad = tmp_path / "bad.json"
         bad.write_text(json.dumps({**d, **change}))

@@ -148,7 +148,16 @@ def test_paper_mode_loses_bits_on_small_meshes_and_the_fixes_do_not(cow):
 def test_cdr_one_without_attack_and_after_storage_similarity_permutation(name, method, tmp_path):
     m = meshmark.read_mesh(shared_mesh(f"classic/{name}"))
     rng = np.random.default_rng(zlib.crc32(f"{name}/{method}".encode()))
-    r = meshmark.watermark.embed(m, payload="Hi", key="k3y", method=method)
+    key = "k3y"
+    if (name, method) == ("suzanne.obj", "radial"):
+        # Measured: on Suzanne (505 vertices once its eyes' 2 vertices that touch the head are welded;
+        # K = 400 bins, n_thr = 2) the radial mark does not take for about half of the keys: 11 of
+        # k0..k19 welded, 10 unwelded. Embed then refuses and changes nothing; "k3y" is one of them
+        # since welding. The storage/similarity checks below run with a key that takes.
+        with pytest.raises(MeshError, match="radial mark does not take"):
+            meshmark.watermark.embed(m, payload="Hi", key=key, method=method)
+        key = "k0"
+    r = meshmark.watermark.embed(m, payload="Hi", key=key, method=method)
     assert r.stats["rounds"] >= 1  # embed raises if any carrier bit does not take
     Vm = r.V
     x = meshmark.watermark.extract(Vm, m, keyfile=r.keyfile)

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Idempotent setup shared by ./demo.sh and ./test.sh (sourced, not run):
-#   1. Debian packages: compiler, CMake, Eigen, CGAL (+GMP/MPFR/Boost), GoogleTest, and the X/GL
-#      libraries that the bpy wheel loads (installed only when missing, or always when CI=true);
+#   1. Debian packages: compiler, CMake, Eigen, CGAL (+GMP/MPFR/Boost), GoogleTest, the X/GL
+#      libraries that the bpy wheel loads, and Debian's Blender with numpy for its Python plus Xvfb
+#      (blender_tests/test_debian_blender.py: the smoke subset and undo in a window); installed only
+#      when missing, or always when CI=true;
 #   2. a virtual environment in .venv with the build tools;
 #   3. meshmark built in Release mode into it (rebuilt only when a source file changed; the CMake
 #      build tree build/py is kept, so rebuilds are incremental) and, with MESHMARK_WITH_TESTS=1,
@@ -14,7 +16,8 @@ cd "$ROOT"
 APT_PACKAGES=(build-essential cmake ninja-build git libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev
   libboost-dev libgtest-dev libsuitesparse-dev libopenblas0-pthread python3-venv python3-dev
   libx11-6 libxrender1 libxxf86vm1 libxfixes3 libxi6 libxkbcommon0 libsm6 libice6 libgl1 libegl1
-  libxext6 libgomp1 libwayland-client0 libdecor-0-0)
+  libxext6 libgomp1 libwayland-client0 libdecor-0-0
+  blender python3-numpy xvfb xauth)
 
 say() { printf '\033[1mmeshmark:\033[0m %s\n' "$*"; }
 

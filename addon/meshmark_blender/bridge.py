@@ -96,37 +96,3 @@ def apply_displacement(obj, D: np.ndarray) -> None:
 
 def bbox_diagonal(V: np.ndarray) -> float:
     return float(np.linalg.norm(V.max(0) - V.min(0))) if len(V) else 0.0
-
-
-def weld_coincident(mesh: meshmark.Mesh) -> meshmark.Mesh:
-    """Merge vertices at exactly equal positions (what exporters split at UV seams and sharp
-    edges: glTF, FBX, STL). Vertex order changes, which the histogram methods do not see; faces
-    left with a repeated corner are dropped. Vectorized numpy."""
-    V, inv = np.unique(mesh.V, axis=0, return_inverse=True)
-    inv = inv.reshape(-1).astype(np.int32)
-    idx = inv[mesh.face_indices]
-    off = mesh.face_offsets
-    sizes = np.diff(off)
-    # a face is kept if no corner repeats the next one (cyclically) after welding
-    nxt = np.arange(idx.size) + 1
-    nxt[off[1:] - 1] = off[:-1]
-    bad_corner = idx == idx[nxt]
-    face_of = np.repeat(np.arange(sizes.size), sizes)
-    bad = np.zeros(sizes.size, bool)
-    bad[face_of[bad_corner]] = True
-    keep = ~bad
-    kept_idx = idx[np.repeat(keep, sizes)]
-    kept_off = np.zeros(int(keep.sum()) + 1, np.int64)
-    np.cumsum(sizes[keep], out=kept_off[1:])
-    return meshmark.Mesh.from_polygons(V, kept_idx, kept_off)
-
-
-def match_keyfile(mesh: meshmark.Mesh, n_expected) -> tuple[meshmark.Mesh, bool]:
-    """If ``mesh`` has a different vertex count than the keyfile's mesh and welding coincident
-    vertices restores that count, return the welded mesh (and True)."""
-    if n_expected is None or mesh.n_vertices == n_expected:
-        return mesh, False
-    welded = weld_coincident(mesh)
-    if welded.n_vertices == n_expected:
-        return welded, True
-    return mesh, False

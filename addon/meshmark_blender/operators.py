@@ -112,6 +112,12 @@ def _method_arg():
     return EnumProperty(name="Method", items=properties.method_items, options={"SKIP_SAVE"})
 
 
+def _weld_arg():
+    return BoolProperty(name="Weld", default=True, options={"SKIP_SAVE"},
+                        description="Merge vertices at exactly equal positions (UV seams, flat shading, "
+                                    "non-indexed glTF) before marking; every copy gets the same mark")
+
+
 def _add_method_params(cls):
     """Give an operator one keyword argument per method parameter (union over METHODS)."""
     ann = cls.__dict__.get("__annotations__", {})
@@ -137,6 +143,7 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
                          description="A raw bit string such as 0110 to hide instead of the text message")
     key: StringProperty(name="Key", options={"SKIP_SAVE"}, subtype="PASSWORD")
     keyfile: StringProperty(name="Keyfile", options={"SKIP_SAVE"}, subtype="FILE_PATH")
+    weld: _weld_arg()
     filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE", "HIDDEN"})
     filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
 
@@ -164,11 +171,12 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
         if not os.path.isdir(os.path.dirname(keyfile)):
             raise MeshError(f"cannot write the keyfile '{keyfile}': the directory does not exist")
         params = self.method_params(context, method)
+        weld = self.arg(context, "weld")
         mesh = bridge.base_mesh(obj)
         progress = _Progress(context, 0.0, 0.9)
         try:
             t0 = time.perf_counter()
-            res = wm_embed(mesh, payload=payload, key=key, method=method, progress=progress, **params)
+            res = wm_embed(mesh, payload=payload, key=key, method=method, progress=progress, weld=weld, **params)
             t_native = time.perf_counter() - t0
             # what Blender will store (float32), checked before anything is written
             D = res.V - mesh.V
@@ -215,7 +223,6 @@ class MESHMARK_OT_verify(_Base, bpy.types.Operator):
         try:
             t0 = time.perf_counter()
             mesh = bridge.evaluated_mesh(context, obj) if evaluated else bridge.base_mesh(obj)
-            mesh, welded = bridge.match_keyfile(mesh, kf.mesh.get("n_vertices"))
             t_read = time.perf_counter() - t0
             res = wm_extract(mesh, keyfile=kf, key=key, progress=progress)
             t_native = time.perf_counter() - t0 - t_read
@@ -223,8 +230,20 @@ class MESHMARK_OT_verify(_Base, bpy.types.Operator):
             progress.end()
         d = res.to_dict()
         result = {"ok": True, "object": obj.name, "keyfile": keyfile, "evaluated": bool(evaluated),
-                  "frame": context.scene.frame_current, "n_vertices": mesh.n_vertices, "welded": welded, **d,
-                  "seconds_native": t_native}
+                  "frame": context.scene.frame_current, "n_input_vertices": mesh.n_vertices, **d,
+                  "welded": res.n_merged > 0, "seconds_native": t_native}
+        if not res.same_vertex_count and not res.detected:
+            # A different mesh (or the wrong object): an error, not an answer. The core extracts blindly
+            # whatever the count (a simplified or cropped copy may still carry the mark), so a mark
+            # found despite a different count is reported below as a detection with a warning.
+            welded = f" after welding ({mesh.n_vertices} as stored)" if res.n_merged else ""
+            msg = (f"'{obj.name}' has {res.n_vertices} vertices{welded} but the keyfile was made for a mesh of "
+                   f"{res.expected_vertices}, and its mark is not found (NC {res.nc:.3f}, CDR {res.cdr:.3f}): "
+                   f"verify is run on a different mesh, or with the wrong keyfile")
+            result.update(ok=False, error=msg)
+            context.scene.meshmark.last_result = json.dumps(result, default=_json_default)
+            self.report({"ERROR"}, f"meshmark: {msg}")
+            return {"CANCELLED"}
         for w in res.warnings:
             self.report({"WARNING"}, f"meshmark: {w}")
         if res.detected:
@@ -237,18 +256,21 @@ class MESHMARK_OT_verify(_Base, bpy.types.Operator):
 
 
 # ---------------------------------------------------------------------------------------------
-def capacity_of(obj, method: str, params: dict) -> dict:
+def capacity_of(obj, method: str, params: dict, weld: bool = True) -> dict:
     mesh = bridge.base_mesh(obj)
-    cap = wm_capacity(mesh, method=method, **params)
+    n_input = mesh.n_vertices
+    if weld:
+        mesh = meshmark.weld_vertices(mesh).mesh
+    cap = wm_capacity(mesh, method=method, weld=False, **params)
     fit = max(0, min(cap - OVERHEAD_BITS, 255))
     return {"ok": True, "object": obj.name, "method": method, "n_vertices": mesh.n_vertices,
-            "params": METHODS[method].resolve(mesh, params), "capacity": cap,
-            "max_message_bits": fit, "max_text_bytes": fit // 8}
+            "n_input_vertices": n_input, "weld": bool(weld), "params": METHODS[method].resolve(mesh, params),
+            "capacity": cap, "max_message_bits": fit, "max_text_bytes": fit // 8}
 
 
-def capacity_signature(obj, method, params):
+def capacity_signature(obj, method, params, weld=True):
     me = obj.data
-    return (me.name, len(me.vertices), len(me.polygons), method, json.dumps(params, sort_keys=True))
+    return (me.name, len(me.vertices), len(me.polygons), method, json.dumps(params, sort_keys=True), bool(weld))
 
 
 class MESHMARK_OT_capacity(_Base, bpy.types.Operator):
@@ -257,13 +279,15 @@ class MESHMARK_OT_capacity(_Base, bpy.types.Operator):
     bl_label = "Capacity"
 
     method: _method_arg()
+    weld: _weld_arg()
 
     def run(self, context):
         obj = bridge.active_mesh_object(context)
         method = self.arg(context, "method")
         params = self.method_params(context, method)
-        d = capacity_of(obj, method, params)
-        CAPACITY_CACHE[obj.name] = (capacity_signature(obj, method, params), d)
+        weld = self.arg(context, "weld")
+        d = capacity_of(obj, method, params, weld)
+        CAPACITY_CACHE[obj.name] = (capacity_signature(obj, method, params, weld), d)
         return self.finish(context, d, "INFO",
                            f"meshmark: '{obj.name}' offers {d['capacity']} carrier bits to the {method} method: "
                            f"up to {d['max_text_bytes']} text bytes ({d['max_message_bits']} bits)")
@@ -306,10 +330,10 @@ class MESHMARK_OT_deformation_study(_Base, bpy.types.Operator):
                 m = bridge.evaluated_mesh(context, obj)
                 disp = (float(np.linalg.norm(m.V - rest.V, axis=1).max()) / diag
                         if m.n_vertices == rest.n_vertices else math.nan)  # Blender's vertex order
-                r = wm_extract(bridge.match_keyfile(m, kf.mesh.get("n_vertices"))[0], keyfile=kf)
+                r = wm_extract(m, keyfile=kf)
                 rows.append({"frame": f, "nc": r.nc, "cdr": r.cdr, "matches": r.matches, "bits": r.n_bits,
                              "detected": r.detected, "message_ok": r.message_ok, "message": r.message,
-                             "max_disp_rel": disp})
+                             "max_disp_rel": disp, "n_vertices": r.n_vertices})
                 wm.progress_update(i + 1)
         finally:
             scene.frame_set(old)
@@ -377,7 +401,7 @@ class MESHMARK_OT_load_keyfile(_Base, bpy.types.Operator):
         path = _abspath(self.filepath)
         kf = load_keyfile(path)  # validates before anything is set
         s = context.scene.meshmark
-        s.keyfile, s.method, s.key = path, kf.method, kf.key
+        s.keyfile, s.method, s.key, s.weld = path, kf.method, kf.key, kf.weld
         pl = Payload.from_bits(kf.payload["bits"])
         text = Payload(kf.payload["kind"], pl.data).message()
         if kf.payload["kind"] == "text":
@@ -388,7 +412,7 @@ class MESHMARK_OT_load_keyfile(_Base, bpy.types.Operator):
             if v is not None:
                 setattr(group, p.name, v)
         return self.finish(context, {"ok": True, "keyfile": path, "method": kf.method, "message": text,
-                                     "params": kf.params, "mesh": kf.mesh}, "INFO",
+                                     "params": kf.params, "weld": kf.weld, "mesh": kf.mesh}, "INFO",
                            f"meshmark: loaded keyfile {path} ({kf.method}, message {text!r})")
 
 

@@ -20,12 +20,12 @@ def capacity_line(context, obj, settings) -> str:
     try:
         method = settings.method
         p = properties.method_settings(settings, method)
-        sig = operators.capacity_signature(obj, method, p)
+        sig = operators.capacity_signature(obj, method, p, settings.weld)
         hit = operators.CAPACITY_CACHE.get(obj.name)
         if hit is None or hit[0] != sig:
             if len(obj.data.vertices) > AUTO_CAPACITY_MAX_VERTICES or obj.mode == "EDIT":
                 return f"{len(obj.data.vertices):,} vertices: press Capacity"
-            hit = (sig, operators.capacity_of(obj, method, p))
+            hit = (sig, operators.capacity_of(obj, method, p, settings.weld))
             operators.CAPACITY_CACHE[obj.name] = hit
         d = hit[1]
         return f"Capacity: {d['capacity']} bits, message up to {d['max_text_bytes']} bytes"
@@ -51,6 +51,7 @@ class MESHMARK_PT_sidebar(bpy.types.Panel):
         if group is not None:
             for p in _params.method_params(s.method):
                 col.prop(group, p.name)
+        col.prop(s, "weld")
         layout.prop(s, "message")
         layout.prop(s, "key")
         row = layout.row(align=True)

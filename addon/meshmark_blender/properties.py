@@ -56,6 +56,9 @@ def _build_classes():
             "keyfile": StringProperty(name="Keyfile", description="Keyfile written by Embed and read by Verify "
                                       "(JSON; keep it outside the .blend)", default="", subtype="FILE_PATH"),
             "params": PointerProperty(type=all_params),
+            "weld": BoolProperty(name="Weld", default=True,
+                                 description="Merge vertices at exactly equal positions (UV seams, flat shading, "
+                                             "non-indexed glTF) before marking; every copy gets the same mark"),
             "evaluated": BoolProperty(name="Deformed", default=True,
                                       description="Verify the evaluated mesh (armature, shape keys, modifiers) "
                                                   "instead of the base mesh"),

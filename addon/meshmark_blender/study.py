@@ -1,8 +1,9 @@
 """The deformation study's outputs (bpy-free): CSV rows, a matplotlib plot and a summary.
 
-A row is a dict with ``frame, nc, cdr, matches, bits, detected, message_ok, max_disp_rel``
+A row is a dict with ``frame, nc, cdr, matches, bits, detected, message_ok, max_disp_rel, n_vertices``
 (``max_disp_rel``: largest vertex displacement from the marked rest mesh divided by its bounding
-box diagonal; NaN when the vertex counts differ).
+box diagonal, NaN when the vertex counts differ; ``n_vertices``: the vertices extraction saw, after
+welding if the keyfile welds).
 """
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import csv
 import math
 import os
 
-COLUMNS = ["frame", "nc", "cdr", "matches", "bits", "detected", "message_ok", "max_disp_rel"]
+COLUMNS = ["frame", "nc", "cdr", "matches", "bits", "detected", "message_ok", "max_disp_rel", "n_vertices"]
 
 
 def write_csv(rows: list, path: str) -> None:

@@ -15,6 +15,7 @@
 #include "meshmark/unique_edges.h"
 #include "meshmark/validate.h"
 #include "meshmark/vertex_adjacency.h"
+#include "meshmark/weld_vertices.h"
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
@@ -51,6 +52,17 @@ void bind_mesh(py::module_& m) {
           }
           return mask;
         }, py::arg("n_vertices"), py::arg("indices"));
+
+  m.def("weld_vertices", [](VRef V, Eigen::Ref<const VectorXi> idx, Eigen::Ref<const VectorXo> off) {
+          if (off.size() == 0) throw MeshError("face offsets are empty");
+          Welded W;
+          {
+            py::gil_scoped_release release;
+            W = weld_vertices(V, PolygonsView{idx.data(), idx.size(), off.data(), off.size() - 1});
+          }
+          return py::make_tuple(std::move(W.first), std::move(W.map), std::move(W.indices), std::move(W.offsets),
+                                std::move(W.face));
+        }, py::arg("V"), py::arg("indices"), py::arg("offsets"));
 
   m.def("unique_edges", [](Index n, VectorXi idx, VectorXo off) {
           EdgeList E = unique_edges(n, make_polygons(std::move(idx), std::move(off)));

@@ -8,6 +8,7 @@
 #include "meshmark/unique_edges.h"
 #include "meshmark/validate.h"
 #include "meshmark/vertex_adjacency.h"
+#include "meshmark/weld_vertices.h"
 
 #include <gtest/gtest.h>
 
@@ -147,4 +148,50 @@ TEST(Validate, MessagesNameTheCulprit) {
   }
   V(3, 1) = std::nan("");
   EXPECT_THROW(validate_vertices(V), MeshError);
+}
+
+namespace {
+PolygonsView view(const Polygons& P) { return PolygonsView{P.indices.data(), P.n_corners(), P.offsets.data(), P.n_faces()}; }
+}  // namespace
+
+TEST(WeldVertices, SplitSquareWeldsBackAndKeepsFirstOccurrenceOrder) {
+  // the square's two triangles stored apart (non-indexed), -0.0 for one zero, plus a collapsed face
+  MatrixX3dR V(7, 3);
+  V << 0, 0, 0, 1, 0, 0, 1, 1, 0, -0.0, 0, 0, 1, 1, 0, 0, 1, 0, 1, 0, 0;
+  Polygons P;
+  P.indices.resize(9);
+  P.indices << 0, 1, 2, 3, 4, 5, 1, 6, 2;  // the last face welds to (1, 1, 2): dropped
+  P.offsets.resize(4);
+  P.offsets << 0, 3, 6, 9;
+  const Welded W = weld_vertices(V, view(P));
+  ASSERT_EQ(W.first.size(), 4);
+  EXPECT_EQ(W.first[0], 0); EXPECT_EQ(W.first[1], 1); EXPECT_EQ(W.first[2], 2); EXPECT_EQ(W.first[3], 5);
+  const int expect_map[7] = {0, 1, 2, 0, 2, 3, 1};
+  for (int i = 0; i < 7; ++i) EXPECT_EQ(W.map[i], expect_map[i]) << i;
+  ASSERT_EQ(W.offsets.size(), 3);
+  ASSERT_EQ(W.indices.size(), 6);
+  const int expect_idx[6] = {0, 1, 2, 0, 2, 3};
+  for (int c = 0; c < 6; ++c) EXPECT_EQ(W.indices[c], expect_idx[c]) << c;
+  EXPECT_EQ(W.face[0], 0); EXPECT_EQ(W.face[1], 1);
+}
+
+TEST(WeldVertices, QuadLosingACornerBecomesATriangle) {
+  MatrixX3dR V(5, 3);
+  V << 0, 0, 0, 1, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+  Polygons P;
+  P.indices.resize(5);
+  P.indices << 0, 1, 2, 3, 4;  // a pentagon with corners 1 and 2 coincident -> quad (0, 1, 2, 3) welded
+  P.offsets.resize(2);
+  P.offsets << 0, 5;
+  const Welded W = weld_vertices(V, view(P));
+  ASSERT_EQ(W.indices.size(), 4);
+  EXPECT_EQ(W.indices[0], 0); EXPECT_EQ(W.indices[1], 1); EXPECT_EQ(W.indices[2], 2); EXPECT_EQ(W.indices[3], 3);
+}
+
+TEST(WeldVertices, NothingToMergeLeavesTheFacesToTheCaller) {
+  const Welded W = weld_vertices(square_V(), view(square_P()));
+  ASSERT_EQ(W.first.size(), 5);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(W.map[i], i);
+  EXPECT_EQ(W.indices.size(), 0);
+  EXPECT_EQ(W.offsets.size(), 0);
 }

@@ -8,7 +8,7 @@ Modules, one per concern (thesis chapters get their own modules as they land):
 
 * :mod:`meshmark.mesh` — the :class:`Mesh` model and input validation;
 * :mod:`meshmark.io` — reading and writing OBJ, OFF, PLY and STL;
-* :mod:`meshmark.topology` — edges, adjacency, boundary, components, manifoldness;
+* :mod:`meshmark.topology` — edges, adjacency, boundary, components, manifoldness, welding;
 * :mod:`meshmark.geometry` — triangulation, normals, areas, angles, PCA;
 * :mod:`meshmark.attacks` — attacks: similarity, reordering, noise, smoothing, quantization,
   simplification, subdivision, cropping, storage round trips;
@@ -20,7 +20,7 @@ from ._core import MeshError
 from .mesh import Mesh, as_mesh
 from .io import read_mesh, write_mesh
 from .topology import (unique_edges, vertex_adjacency, valence, boundary_edges, boundary_vertices,
-                       connected_components, manifold_report)
+                       connected_components, manifold_report, weld_vertices, Welded)
 from .geometry import (triangulate, face_normals, face_areas, interior_angles, dihedral_angles,
                        angle_sum, pca)
 from .info import mesh_info
@@ -31,7 +31,7 @@ __version__ = "0.1.0"
 __all__ = [
     "MeshError", "Mesh", "as_mesh", "read_mesh", "write_mesh",
     "unique_edges", "vertex_adjacency", "valence", "boundary_edges", "boundary_vertices",
-    "connected_components", "manifold_report",
+    "connected_components", "manifold_report", "weld_vertices", "Welded",
     "triangulate", "face_normals", "face_areas", "interior_angles", "dihedral_angles", "angle_sum", "pca",
     "mesh_info", "__version__",
 ]

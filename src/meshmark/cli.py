@@ -84,6 +84,9 @@ def _method_options(f):
     """Parameters shared by embed and capacity (names as in the Python API; thesis defaults).
 
     Each method accepts only its own parameters (an option another method owns is an error)."""
+    f = click.option("--weld/--no-weld", "weld", default=True, show_default=True,
+                     help="Merge vertices at exactly equal positions before the method runs (split seams, "
+                          "non-indexed glTF/STL); stored in the keyfile.")(f)
     f = click.option("--origin-iters", "origin_iters", type=int, default=None,
                      help="radial: re-synchronisation rounds of the origin (default 0).")(f)
     f = click.option("--origin-mode", "origin_mode", type=click.Choice(["axis", "vertices"]), default=None,
@@ -196,16 +199,20 @@ def extract(inp, keyfile, key, as_json):
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def capacity(inp, method, as_json, **method_params):
     """How many carrier bits IN offers to a method, and how long a message fits."""
-    from . import read_mesh
+    from . import read_mesh, weld_vertices
     from .watermark import METHODS
     from .watermark.payload import OVERHEAD_BITS
 
     mesh = read_mesh(inp)
     m = METHODS[method]
-    p = m.resolve(mesh, _params(**method_params))
+    params = _params(**method_params)
+    weld = params.pop("weld")
+    if weld:
+        mesh = weld_vertices(mesh).mesh
+    p = m.resolve(mesh, params)
     ids, _ = m.carriers(mesh, p)
     cap = int(len(ids))
-    d = {"input": inp, "method": method, "params": p, "capacity": cap,
+    d = {"input": inp, "method": method, "params": p, "weld": weld, "n_vertices": mesh.n_vertices, "capacity": cap,
          "max_message_bits": max(0, min(cap - OVERHEAD_BITS, 255)),
          "max_text_bytes": max(0, min(cap - OVERHEAD_BITS, 255) // 8)}
     _emit(d, as_json, f"{inp}: {cap} carrier bits with the {method} method ({m.describe(p)}); "

@@ -5,10 +5,13 @@ stored (a quad has 4 edges, no diagonal). All loops run natively.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from . import _core
-from .mesh import as_mesh
+from ._core import MeshError
+from .mesh import Mesh, as_mesh
 
 
 def unique_edges(V, F=None) -> tuple[np.ndarray, np.ndarray]:
@@ -62,3 +65,52 @@ def manifold_report(V, F=None) -> dict:
     """Counts of non-manifold edges (> 2 faces) and vertices (faces not forming one fan)."""
     m = as_mesh(V, F)
     return _core.manifold_report(m.n_vertices, m.face_indices, m.face_offsets)
+
+
+@dataclass(frozen=True)
+class Welded:
+    """The result of :func:`weld_vertices`.
+
+    ``mesh``: the welded mesh (k vertices; the input Mesh object itself when nothing merges);
+    ``map``: (n,) int32, the welded vertex of each input vertex; ``first``: (k,) int32, the first input
+    vertex of each welded vertex (increasing: welded vertices keep the order of first occurrence);
+    ``face``: (m',) int32, the input face of each kept face.
+    """
+    mesh: Mesh
+    map: np.ndarray
+    first: np.ndarray
+    face: np.ndarray
+
+    @property
+    def n_merged(self) -> int:
+        """How many input vertices were merged into an earlier copy (n - k)."""
+        return int(self.map.shape[0] - self.first.shape[0])
+
+    def scatter(self, V) -> np.ndarray:
+        """(n, 3) positions of the input vertices from (k, 3) positions of the welded ones: every
+        copy of a welded vertex gets exactly the same coordinates."""
+        V = np.asarray(V)
+        if V.shape[0] != self.first.shape[0]:
+            raise ValueError(f"expected {self.first.shape[0]} welded positions, got {V.shape[0]}")
+        return V if self.n_merged == 0 else V[self.map]
+
+
+def weld_vertices(V, F=None) -> Welded:
+    """Merge vertices whose coordinates are exactly equal (as float64; ``-0.0 == 0.0``).
+
+    Exporters split a vertex into coincident copies at UV seams and sharp edges, and non-indexed
+    glTF or STL files store every triangle corner separately; the edge graph of such a mesh falls
+    apart into pieces. Welding gives back the connected mesh: faces are reindexed, a corner that
+    repeats the previous one is removed, and a face left with fewer than 3 corners (or still
+    repeating a vertex) is dropped. Exact equality, no tolerance: see ``docs/mesh_model.md``.
+    One native hash pass, O(n + corners).
+
+    Returns a :class:`Welded` (``mesh``, ``map``, ``first``, ``face``, ``scatter``).
+    """
+    m = as_mesh(V, F)
+    first, vmap, idx, off, face = _core.weld_vertices(m.V, m.face_indices, m.face_offsets)
+    if first.shape[0] == m.n_vertices:  # nothing merges: the native side leaves the faces alone
+        return Welded(mesh=m, map=vmap, first=first, face=np.arange(m.n_faces, dtype=np.int32))
+    if face.shape[0] == 0:
+        raise MeshError(f"welding the {m.n_vertices} vertices at equal positions leaves no face: every face collapses")
+    return Welded(mesh=Mesh.from_polygons(m.V[first], idx, off, validate=False), map=vmap, first=first, face=face)

@@ -9,6 +9,12 @@ A method (``meshmark.watermark.laplacian.METHOD`` and, later, the radial methods
 
 and this module does the rest, identically for every method:
 
+0. weld (``weld=True``, the default): vertices at exactly equal positions are merged
+   (:func:`meshmark.weld_vertices`), the method runs on the welded mesh, and the marked positions
+   are scattered back to every copy, so copies stay coincident and the model does not crack open.
+   Exporters split vertices at UV seams and sharp edges, and non-indexed glTF/STL keep every corner
+   apart: without welding the edge graph of such a mesh is a set of loose pieces. The choice is
+   stored in the keyfile and extraction welds the same way;
 1. frame the payload (:mod:`.payload`: length, data, CRC-8) and repeat it over all carriers;
 2. whiten the coded bits and assign them to carriers in a key-dependent order (:mod:`.keys`);
 3. embed, then re-extract and re-embed the carriers that did not take (at most 4 rounds);
@@ -30,6 +36,7 @@ import numpy as np
 from .. import __version__
 from .._core import MeshError
 from ..mesh import Mesh, as_mesh
+from ..topology import Welded, weld_vertices
 from ..metrics import cdr as _cdr, false_alarm_probability, normalized_correlation
 from . import keys as _keys
 from .keyfile import Keyfile, load_keyfile
@@ -75,7 +82,8 @@ class EmbedResult:
     def to_dict(self) -> dict:
         return {"method": self.keyfile.method, "capacity": self.capacity, "n_coded": self.keyfile.coding["n_coded"],
                 "frame_bits": self.keyfile.coding["frame_bits"], "payload_bits": self.keyfile.payload["n_bits"],
-                "params": self.keyfile.params, **self.stats}
+                "params": self.keyfile.params, "weld": self.keyfile.weld,
+                "welded_vertices": self.keyfile.mesh["n_vertices"], **self.stats}
 
 
 @dataclass
@@ -91,16 +99,36 @@ class ExtractResult:
     reason: str = ""         # why the message was not recovered
     warnings: list = field(default_factory=list)
     bits: np.ndarray = None  # (n_coded,) extracted coded bits (0/1), after un-whitening
+    n_vertices: int = 0      # vertices the method saw (after welding, if the keyfile welds)
+    n_merged: int = 0        # input vertices merged into a coincident copy by welding
+    expected_vertices: int = None  # the keyfile's count (None if it has none)
+
+    @property
+    def same_vertex_count(self) -> bool:
+        """Whether the (welded) mesh has the vertex count the keyfile was made for."""
+        return self.expected_vertices is None or self.n_vertices == self.expected_vertices
 
     def to_dict(self) -> dict:
         return {"detected": self.detected, "nc": self.nc, "cdr": self.cdr, "matches": self.matches,
                 "bits": self.n_bits, "p_false_alarm": self.p_false_alarm, "message": self.message,
-                "message_ok": self.message_ok, "reason": self.reason, "warnings": list(self.warnings)}
+                "message_ok": self.message_ok, "reason": self.reason, "warnings": list(self.warnings),
+                "n_vertices": self.n_vertices, "n_merged": self.n_merged,
+                "expected_vertices": self.expected_vertices}
 
 
-def capacity(V, F=None, method: str = "laplacian", **params) -> int:
-    """Number of carrier bits the mesh offers to ``method`` with these parameters (before framing)."""
+def _weld(mesh: Mesh, weld) -> Welded | None:
+    """The welded mesh (None when ``weld`` is off)."""
+    if not isinstance(weld, (bool, np.bool_)):
+        raise MeshError(f"weld must be True or False, got {weld!r}")
+    return weld_vertices(mesh) if weld else None
+
+
+def capacity(V, F=None, method: str = "laplacian", weld: bool = True, **params) -> int:
+    """Number of carrier bits the mesh offers to ``method`` with these parameters (before framing),
+    on the welded mesh unless ``weld=False``."""
     mesh = as_mesh(V, F)
+    w = _weld(mesh, weld)
+    mesh = w.mesh if w is not None else mesh
     m = _method(method)
     p = m.resolve(mesh, params)
     ids, _ = m.carriers(mesh, p)
@@ -114,19 +142,25 @@ def _expected(payload: Payload, key: str, method: str, n: int):
     return coded, white, order
 
 
-def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress=None, **params) -> EmbedResult:
+def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress=None, weld: bool = True,
+          **params) -> EmbedResult:
     """Embed ``payload`` (text, bit string or Payload) under ``key`` with ``method``.
 
-    Returns an :class:`EmbedResult` with the marked vertices and the keyfile; the input arrays are
-    never modified. Raises MeshError (nothing changed) when the mesh is invalid, offers fewer than 8
-    carriers, or the framed message does not fit (the message states the capacity in bits).
+    Returns an :class:`EmbedResult` with the marked vertices (one row per input vertex, in input
+    order) and the keyfile; the input arrays are never modified. With ``weld=True`` (default) the
+    method runs on the mesh with coincident vertices merged and every copy gets the same marked
+    position (copies that were bit-identical stay bit-identical). Raises MeshError (nothing
+    changed) when the mesh is invalid, offers fewer than 8 carriers, or the framed message does not
+    fit (the message states the capacity in bits).
     ``progress(fraction, text)`` is called as the work advances, if given.
     """
     report = progress or (lambda f, t: None)
-    mesh = as_mesh(V, F)
+    mesh_in = as_mesh(V, F)
     m = _method(method)
     key = _keys.check_key(key)
     pl = Payload.coerce(payload)
+    w = _weld(mesh_in, weld)
+    mesh = w.mesh if w is not None else mesh_in
     p = m.resolve(mesh, params)
     report(0.05, "finding carriers")
     ids, side = m.carriers(mesh, p)
@@ -158,14 +192,18 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
                         f"wrong after {MAX_ROUNDS} rounds ({m.describe(p)}); nothing was changed. Try other parameters.")
     report(0.95, "writing keyfile")
     bits = pl.bitstring()
-    kf = Keyfile(method=method, params=p, key=key,
+    kf = Keyfile(method=method, params=p, key=key, weld=bool(weld),
                  payload={"kind": pl.kind, "n_bits": pl.data.size, "bits": bits,
                           "sha256": hashlib.sha256(bits.encode()).hexdigest()},
                  coding={"scheme": "repeat", "frame_bits": pl.frame_bits, "n_coded": cap},
                  side_info={**side, "carriers": [int(c) for c in ids]},
                  mesh={"n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces,
+                       "n_input_vertices": mesh_in.n_vertices, "n_input_faces": mesh_in.n_faces,
                        "bbox_diagonal": float(np.linalg.norm(Vm.max(0) - Vm.min(0)))},
                  meshmark_version=__version__)
+    if w is not None:
+        Vm = w.scatter(Vm)
+        stats["n_merged"] = w.n_merged
     report(1.0, "done")
     return EmbedResult(V=Vm, keyfile=kf, capacity=cap, stats=stats)
 
@@ -174,7 +212,8 @@ def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
     """Extract and detect the watermark described by ``keyfile`` (a path or Keyfile).
 
     ``key`` overrides the keyfile's key (to test a key). The mesh may differ from the marked one
-    (attacked, deformed, re-exported): extraction is blind and never needs the original mesh.
+    (attacked, deformed, re-exported): extraction is blind and never needs the original mesh. If the
+    keyfile says so (``weld``), coincident vertices are welded first, exactly as at embedding.
     """
     report = progress or (lambda f, t: None)
     mesh = as_mesh(V, F)
@@ -183,10 +222,16 @@ def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
     kf = load_keyfile(keyfile)
     m = _method(kf.method)
     key = _keys.check_key(kf.key if key is None else key)
+    w = _weld(mesh, kf.weld)
+    n_merged = 0
+    if w is not None:
+        mesh, n_merged = w.mesh, w.n_merged
     warnings = []
-    if mesh.n_vertices != kf.mesh.get("n_vertices"):
-        warnings.append(f"the mesh has {mesh.n_vertices} vertices but the keyfile was made for "
-                        f"{kf.mesh.get('n_vertices')} (simplified, cropped or remeshed?); extracting blindly")
+    expected = kf.mesh.get("n_vertices")
+    if mesh.n_vertices != expected:
+        welded = f" ({mesh.n_vertices + n_merged} before welding)" if n_merged else ""
+        warnings.append(f"the mesh has {mesh.n_vertices} vertices{welded} but the keyfile was made for "
+                        f"{expected} (simplified, cropped or remeshed?); extracting blindly")
     n = int(kf.coding["n_coded"])
     ids = np.asarray(kf.side_info["carriers"], dtype=np.int64)
     if ids.size != n:
@@ -204,4 +249,6 @@ def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
     report(1.0, "done")
     return ExtractResult(detected=bool(p_fa < DETECTION_THRESHOLD), nc=normalized_correlation(coded, bits),
                          cdr=_cdr(coded, bits), matches=matches, n_bits=n, p_false_alarm=p_fa,
-                         message=message, message_ok=found is not None, reason=reason, warnings=warnings, bits=bits)
+                         message=message, message_ok=found is not None, reason=reason, warnings=warnings, bits=bits,
+                         n_vertices=mesh.n_vertices, n_merged=n_merged,
+                         expected_vertices=None if expected is None else int(expected))

@@ -2,11 +2,15 @@
 
 It is written by ``embed`` and kept by the owner; the marked mesh can be shared without it. Fields:
 
-``format`` ("meshmark-keyfile"), ``version`` (1), ``method``, ``params`` (the method's parameters
-as used), ``key``, ``payload`` (``kind``, ``n_bits``, ``bits`` as a 0/1 string, ``sha256`` of that
+``format`` ("meshmark-keyfile"), ``version`` (2), ``method``, ``params`` (the method's parameters
+as used), ``weld`` (whether vertices at equal positions were welded before the method ran; extraction
+welds the same way), ``key``, ``payload`` (``kind``, ``n_bits``, ``bits`` as a 0/1 string, ``sha256`` of that
 string), ``coding`` (``scheme`` "repeat", ``frame_bits``, ``n_coded``), ``side_info`` (method data
-such as bin ranges and the carrier list), ``mesh`` (vertex/face counts and bounding-box diagonal of
-the marked mesh), ``meshmark_version`` and ``created``.
+such as bin ranges and the carrier list), ``mesh`` (vertex/face counts of the mesh the method ran on,
+i.e. after welding, the input's counts and the bounding-box diagonal of the marked mesh),
+``meshmark_version`` and ``created``.
+
+Version 1 (before welding existed) is still read: it has no ``weld`` field and means ``weld=False``.
 """
 from __future__ import annotations
 
@@ -19,7 +23,8 @@ from dataclasses import dataclass, field
 from .._core import MeshError
 
 FORMAT = "meshmark-keyfile"
-VERSION = 1
+VERSION = 2
+READABLE_VERSIONS = (1, 2)  # version 1: no "weld" field, read as weld=False
 
 
 @dataclass
@@ -31,12 +36,13 @@ class Keyfile:
     coding: dict
     side_info: dict
     mesh: dict
+    weld: bool = False
     meshmark_version: str = ""
     created: str = field(default_factory=lambda: datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"))
 
     def to_dict(self) -> dict:
         return {"format": FORMAT, "version": VERSION, "method": self.method, "params": self.params,
-                "key": self.key, "payload": self.payload, "coding": self.coding, "side_info": self.side_info,
+                "weld": bool(self.weld), "key": self.key, "payload": self.payload, "coding": self.coding, "side_info": self.side_info,
                 "mesh": self.mesh, "meshmark_version": self.meshmark_version, "created": self.created}
 
     def to_json(self) -> str:
@@ -50,8 +56,15 @@ class Keyfile:
             bad("not a JSON object")
         if d.get("format") != FORMAT:
             bad(f"not a meshmark keyfile (format is {d.get('format')!r}, expected {FORMAT!r})")
-        if d.get("version") != VERSION:
-            bad(f"keyfile version {d.get('version')!r} is not supported (this meshmark reads version {VERSION})")
+        version = d.get("version")
+        if version not in READABLE_VERSIONS or isinstance(version, bool):
+            bad(f"keyfile version {version!r} is not supported (this meshmark reads versions "
+                f"{', '.join(map(str, READABLE_VERSIONS))})")
+        weld = False
+        if version >= 2:
+            weld = d.get("weld")
+            if not isinstance(weld, bool):
+                bad("field 'weld' is missing or not true/false")
         from .framework import METHODS
         if d.get("method") not in METHODS:
             bad(f"unknown method {d.get('method')!r} (known: {', '.join(METHODS)})")
@@ -71,7 +84,7 @@ class Keyfile:
             bad("coding must have scheme 'repeat' and integer frame_bits and n_coded")
         if c["frame_bits"] != len(bits) + 16 or c["n_coded"] < c["frame_bits"]:
             bad("coding sizes are inconsistent with the payload")
-        return cls(method=d["method"], params=d["params"], key=d["key"], payload=p, coding=c,
+        return cls(method=d["method"], params=d["params"], key=d["key"], payload=p, coding=c, weld=weld,
                    side_info=d["side_info"], mesh=d["mesh"], meshmark_version=str(d.get("meshmark_version", "")),
                    created=str(d.get("created", "")))
 

@@ -171,7 +171,8 @@ def embed(V, F=None, payload=None, key=None, progress=None, **params) -> framewo
     """Embed ``payload`` under ``key``; returns ``EmbedResult(V, keyfile, capacity, stats)``.
 
     Parameters (thesis §7.4 defaults): ``K`` bins (``ceil(N/70)``), ``n_thr`` (46), ``n_robust`` (5),
-    ``eps`` (1e-5), ``thesis_exact`` (False).
+    ``eps`` (1e-5), ``thesis_exact`` (False); and the framework's ``weld`` (True: coincident vertices
+    are merged first, N counts the welded vertices).
     """
     return framework.embed(V, F, payload=payload, key=key, method=NAME, progress=progress, **params)
 
