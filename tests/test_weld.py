@@ -118,7 +118,8 @@ def test_without_weld_the_copies_crack_apart(bunny):
     gap = np.linalg.norm(r.V - r.V[orig], axis=1)
     diag = np.linalg.norm(bunny.V.max(0) - bunny.V.min(0))
     # the seam copies are boundary vertices of two open halves: they move apart (a crack in the model)
-    assert (gap > 0).sum() == 300 and gap.max() > 1e-3 * diag  # measured: 1.2e-3 of the diagonal
+    # measured: 1.0e-4 of the diagonal with the iterative reconstruction, 1.2e-3 with solver='direct'
+    assert (gap > 0).sum() == 300 and gap.max() > 3e-5 * diag
     assert r.keyfile.weld is False and r.keyfile.mesh["n_vertices"] == 35947 + 300
 
 
