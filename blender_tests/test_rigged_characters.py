@@ -13,15 +13,15 @@ keys than the test's (docs/blender.md, "Rigged characters").
 Measured against the targets (detected at every frame, mean CDR >= 0.9, message on >= 95 % of frames):
 
 * Knight as shown (K=200, n_thr=12, n_robust=1, 37 carriers): met, for each of the 4 keys tested
-  here (and 17 in the parameter search): detected at all 134 frames, mean CDR >= 0.998, message on
-  100 % of frames.
+  here (and 17 in the parameter search): detected at all 134 frames, mean CDR >= 0.995, message on
+  98.5-100 % of frames.
 * Knight, skinned parts only (K=100, n_thr=4, n_robust=1, 26 carriers): NOT met. Mean CDR 0.99 and
-  detected on 97 % of frames, but one letter needs all 26 carriers and the vertices at the joints,
-  whose Laplacian moves by more than a bin, flip a bit on a quarter of the frames.
+  detected on 96 % of frames, but one letter needs all 26 carriers and the vertices at the joints,
+  whose Laplacian moves by more than a bin, flip a bit on a fifth of the frames (message on 81 %).
 * Fox: NOT met, and not reachable with this method: a detectable mark needs at least 20 carriers
   (P(false alarm) < 1e-6), i.e. K >= 42 bins over 290 vertices, and at K = 42 posing moves 46 % of
   the vertices' Laplacian lengths by more than half a bin per frame (p90: 2.9 bins). The mark reads
-  back exactly at rest, is near chance level in motion (mean CDR 0.68), and is never detected.
+  back exactly at rest, is near chance level in motion (mean CDR 0.68-0.69), and is never detected.
 """
 import json
 
