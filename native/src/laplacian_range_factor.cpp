@@ -16,7 +16,7 @@ struct SortedIndex {
   std::vector<size_t> first;  // first[b] = #d < x0 + b w
 
   SortedIndex(const Eigen::Ref<const Eigen::VectorXd>& v, double lo, double hi) : d(v.data()), n(static_cast<size_t>(v.size())) {
-    const size_t buckets = std::max<size_t>(1024, n / 2);
+    const size_t buckets = std::max<size_t>(1024, std::min<size_t>(4 * n, size_t(1) << 20));
     x0 = lo;
     const double w = (hi - lo) / static_cast<double>(buckets);
     inv_w = w > 0 ? 1.0 / w : 0.0;
