@@ -100,6 +100,9 @@ def _method_options(f):
                      help="cho-*: strength factor (default 0.04 for cho-mean, 0.16 for cho-variance).")(f)
     f = click.option("--thesis-exact", is_flag=True, default=False,
                      help="laplacian, cho-*: run the published algorithm to the letter (no robustness fixes).")(f)
+    f = click.option("--solver", type=click.Choice(["iterative", "direct"]), default=None,
+                     help="laplacian: reconstruction, PCG rounds that stop when every carrier holds its margin "
+                          "(default iterative) or one exact sparse solve (direct).")(f)
     f = click.option("--eps", type=float, default=None, help="laplacian: regularisation of eq. 7.1.4 (default 1e-5).")(f)
     f = click.option("--n-robust", "n_robust", type=int, default=None, help="laplacian: eq. 7.2.16 margin divisor (default 5).")(f)
     f = click.option("--n-thr", "n_thr", type=int, default=None,
