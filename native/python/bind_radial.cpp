@@ -98,8 +98,14 @@ void bind_radial(py::module_& m) {
 
   m.def("radial_counts", [](VRef V, MRef mask, int K, const std::string& mode) {
           check_mask(V, mask);
-          const RadialOrigin o = radial_origin(V, mask, origin_mode(mode));
-          RadialHistogram h = radial_histogram(radial_distances(V, mask, o.origin), K, mask);
+          const RadialOriginMode om = origin_mode(mode);
+          RadialOrigin o;
+          RadialCounts h;
+          {
+            py::gil_scoped_release release;
+            o = radial_origin(V, mask, om);
+            h = radial_counts(V, mask, K, o.origin);
+          }
           return py::make_tuple(std::move(h.counts), Eigen::Vector3d(o.origin), h.rho_min, h.rho_max);
         }, py::arg("V"), py::arg("mask"), py::arg("K"), py::arg("origin_mode") = "axis");
 
