@@ -13,67 +13,76 @@
 
 namespace meshmark {
 
-namespace {
-
-// Sum of the h largest values of p (0 < h <= p.size()) by a counting pass instead of a selection over
-// all of p: a 4096-bucket histogram over [lo, hi] finds the bucket holding the h-th largest value;
-// only that bucket is selected. The bucket index is monotone in the value, so every value above the
-// cut bucket is among the h largest.
-double sum_of_largest(const std::vector<double>& p, size_t h, double lo, double hi) {
-  if (h == 0) return 0.0;
-  if (!(hi > lo)) return static_cast<double>(h) * hi;
-  constexpr int B = 4096;
-  const double scale = B / (hi - lo);
-  auto bucket = [&](double v) { return std::min(std::max(static_cast<int>((v - lo) * scale), 0), B - 1); };
-  std::vector<size_t> cnt(B, 0);
-  std::vector<double> sum(B, 0.0);
-  for (const double v : p) {
-    const int b = bucket(v);
-    ++cnt[b];
-    sum[b] += v;
-  }
-  size_t taken = 0;
-  double s = 0;
-  int cut = B - 1;
-  for (; cut > 0 && taken + cnt[cut] < h; --cut) {
-    taken += cnt[cut];
-    s += sum[cut];
-  }
-  std::vector<double> part;
-  part.reserve(cnt[cut]);
-  for (const double v : p)
-    if (bucket(v) == cut) part.push_back(v);
-  const size_t r = h - taken;  // the r largest of the cut bucket (ties are interchangeable)
-  std::nth_element(part.begin(), part.begin() + (part.size() - r), part.end());
-  for (size_t i = part.size() - r; i < part.size(); ++i) s += part[i];
-  return s;
-}
-
-}  // namespace
-
 RadialOrigin radial_origin(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask,
                            RadialOriginMode mode) {
   if (mask.size() != V.rows()) throw MeshError("mask and V differ in length");
   Eigen::Index count = 0;
   for (Eigen::Index i = 0; i < V.rows(); ++i) count += mask[i] != 0;
   if (count < 2) throw MeshError("the radial origin needs at least 2 (referenced) vertices");
-  std::vector<double> p;  // projections of the masked vertices on the oriented first axis, row order
-  const PCA pc = pca(V, mask, &p);  // sign rule: positive third central moment (docs/mesh_model.md)
-  const Eigen::Vector3d u = pc.axes.col(0);
-  const size_t n = p.size(), h = n / 2;
+  const PCAFrame f = pca_frame(V, mask);  // pass 1: centroid, covariance, first principal axis q
+  const Eigen::Vector3d c = f.pca.centroid, q = f.pca.axes.col(0);
+  const double lambda = f.pca.eigenvalues[0];
+  const size_t n = static_cast<size_t>(f.n), h = n / 2;
+  // Pass 2: the projections p on q (kept), their mean cube and range for meshmark's sign rule
+  // (positive skewness, docs/mesh_model.md), and a counting pass for the right-most half: a
+  // 4096-bucket histogram of p over [-R, R] (R bounds |p|) in which the bucket of the h-th value is
+  // found, so that only that bucket is selected, instead of a selection over all N. The bucket index
+  // is monotone in p.
+  constexpr int B = 4096;
+  const double R = f.radius > 0 ? f.radius : 1.0, scale = B / (2 * R);
+  auto bucket = [&](double v) { return std::min(std::max(static_cast<int>((v + R) * scale), 0), B - 1); };
+  Scratch<double> p;
+  p.resize(n);
+  std::vector<size_t> cnt(B, 0);
+  std::vector<double> sum(B, 0.0);
+  double s3 = 0, pmin = 0, pmax = 0;
+  for (Eigen::Index i = 0, j = 0; i < V.rows(); ++i) {
+    if (!mask[i]) continue;
+    const double* v = row_ptr(V, i);
+    const double pi = (v[0] - c[0]) * q[0] + (v[1] - c[1]) * q[1] + (v[2] - c[2]) * q[2];
+    p[j++] = pi;
+    s3 += pi * pi * pi;
+    pmin = std::min(pmin, pi);
+    pmax = std::max(pmax, pi);
+    const int b = bucket(pi);
+    ++cnt[b];
+    sum[b] += pi;
+  }
+  const double m3 = s3 / static_cast<double>(n);
+  const int sign = pca_axis_sign(m3, pmin, pmax, lambda, q);
   RadialOrigin o;
-  o.axis = u;
-  o.skewness = pc.eigenvalues[0] > 0 ? pc.skewness[0] / std::pow(pc.eigenvalues[0], 1.5) : 0.0;
-  // the right-most half: the floor(N/2) largest projections (the median vertex is left out when N is odd)
+  o.axis = sign * q;
+  o.skewness = lambda > 0 ? sign * m3 / std::pow(lambda, 1.5) : 0.0;
+  // the right-most half: the floor(N/2) largest projections sign * p (the median vertex is left out
+  // when N is odd)
   if (mode == RadialOriginMode::Axis) {
-    o.origin = pc.centroid + (sum_of_largest(p, h, pc.proj_min[0], pc.proj_max[0]) / h) * u;
+    // the sum of the h largest sign * p: whole buckets from the far end, then the cut bucket's largest
+    size_t taken = 0;
+    double s = 0;  // sum of p over the whole buckets taken
+    const int step = sign > 0 ? -1 : 1, last = sign > 0 ? 0 : B - 1;
+    int cut = sign > 0 ? B - 1 : 0;
+    for (; cut != last && taken + cnt[cut] < h; cut += step) {
+      taken += cnt[cut];
+      s += sum[cut];
+    }
+    std::vector<double> part;  // sign * p of the cut bucket (ties are interchangeable)
+    part.reserve(cnt[cut]);
+    for (size_t j = 0; j < n; ++j)
+      if (bucket(p[j]) == cut) part.push_back(sign * p[j]);
+    const size_t r = h - taken;
+    std::nth_element(part.begin(), part.begin() + (part.size() - r), part.end());
+    double sp = 0;
+    for (size_t j = part.size() - r; j < part.size(); ++j) sp += part[j];
+    o.origin = c + ((sign * s + sp) / static_cast<double>(h)) * o.axis;
   } else {
-    std::vector<Eigen::Index> row(n), idx(n);  // masked row of each projection; order by (p, position)
+    std::vector<Eigen::Index> row(n), idx(n);  // masked row of each projection; order by (sign p, position)
     for (Eigen::Index i = 0, j = 0; i < V.rows(); ++i)
       if (mask[i]) row[j++] = i;
     std::iota(idx.begin(), idx.end(), Eigen::Index(0));
-    std::nth_element(idx.begin(), idx.begin() + (n - h), idx.end(),
-                     [&](Eigen::Index a, Eigen::Index b) { return p[a] < p[b] || (p[a] == p[b] && a < b); });
+    std::nth_element(idx.begin(), idx.begin() + (n - h), idx.end(), [&](Eigen::Index a, Eigen::Index b) {
+      const double pa = sign * p[a], pb = sign * p[b];
+      return pa < pb || (pa == pb && a < b);
+    });
     Eigen::Vector3d s = Eigen::Vector3d::Zero();
     for (size_t i = n - h; i < n; ++i) s += V.row(row[idx[i]]).transpose();
     o.origin = s / static_cast<double>(h);
@@ -154,30 +163,41 @@ struct Once {
   int n_moved = 0;
 };
 
-// One embedding about the origin o (eqs. 6.1.1-6.1.7): one pass over the vertices for rho and its
-// range, two over rho for the histogram (counts and each bin's extreme radii) and the radii of the
-// bins that give vertices, then the copy with the moved rows.
+// One embedding about the origin o (eqs. 6.1.1-6.1.7). One pass over the vertices for rho, its range
+// and the copy of V into the output; one over rho for the histogram; one that collects the radii of
+// the bins that give vertices and the extremes of the bins that receive them; then the moved rows.
 Once embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask, int K,
                 const std::vector<int>& pairs_in, const std::vector<int>& bits, int T, const Eigen::Vector3d& o,
                 bool first_embeddable) {
   const Eigen::Index n = V.rows();
+  Once out;
+  prepare_output(out.V, n);
   Scratch<double> rhos;
   rhos.resize(n);
-  const RadialRange rr = radial_range(V, mask, o, rhos.data());  // eq. 6.1.1
-  check_histogram(rr.lo, rr.hi, rr.m, K);
-  const double lo = rr.lo, delta = (rr.hi - rr.lo) / K;  // eq. 6.1.2
-  std::vector<Index> counts(K, 0);
-  std::vector<double> bmin(K, std::numeric_limits<double>::infinity()), bmax(K, -std::numeric_limits<double>::infinity());
-  for (Eigen::Index i = 0; i < n; ++i) {  // eq. 6.1.3 with the extremes of each bin's contents
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  Eigen::Index m = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double* v = row_ptr(V, i);
+    double* w = &out.V(i, 0);
+    w[0] = v[0], w[1] = v[1], w[2] = v[2];  // rows not moved below are copied bit-exactly
     if (!mask[i]) continue;
-    const double rho = rhos[i];
-    const int k = radial_bin_of(rho, lo, delta, K);
-    ++counts[k];
-    bmin[k] = std::min(bmin[k], rho);
-    bmax[k] = std::max(bmax[k], rho);
+    const double rho = vertex_distance(v, o);  // eq. 6.1.1
+    rhos[i] = rho;
+    lo = std::min(lo, rho);
+    hi = std::max(hi, rho);
+    ++m;
+  }
+  check_histogram(lo, hi, m, K);
+  const double delta = (hi - lo) / K;  // eq. 6.1.2
+  std::vector<Index> counts(K, 0);
+  Scratch<Index> bins;
+  bins.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {  // eq. 6.1.3
+    const int k = mask[i] ? radial_bin_of(rhos[i], lo, delta, K) : -1;
+    bins[i] = k;
+    if (k >= 0) ++counts[k];
   }
   const int n_pairs = (K - 2) / 2;  // capacity floor((K-2)/2) (§6.3.1)
-  Once out;
   out.pairs = pairs_in;
   if (first_embeddable) {  // the thesis' placement: bit i in the i-th embeddable pair (eq. 6.1.4)
     out.pairs.clear();
@@ -189,8 +209,8 @@ Once embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
   }
   const std::vector<int>& pairs = out.pairs;
   auto edge = [&](int k) { return lo + delta * k; };
-  // n_mov of every pair (cases 1-3, eq. 6.1.7) and the bins that give vertices
-  std::vector<char> gives(K, 0);
+  // n_mov of every pair (cases 1-3, eq. 6.1.7), the bins that give vertices and those that receive them
+  std::vector<char> gives(K, 0), receives(K, 0);
   for (size_t c = 0; c < pairs.size(); ++c) {
     const int a = 2 * pairs[c] + 1, b = a + 1, w = bits[c];  // B_k, B_k+1 (0-based)
     const int na = counts[a], nb = counts[b];
@@ -201,18 +221,25 @@ Once embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
     else n_mov = (src - dst + T + 1) / 2;               // case 3, eq. 6.1.7: ceil((|B_k|-|B_k+1|+n_thr)/2)
     n_mov = std::min(n_mov, src);
     out.n_mov.push_back(n_mov);
-    if (n_mov > 0) gives[w < 0 ? a : b] = 1;
+    if (n_mov > 0) {
+      gives[w < 0 ? a : b] = 1;
+      receives[w < 0 ? b : a] = 1;
+    }
   }
-  // the radii of the giving bins, with their rows
+  // the radii (with rows) of the giving bins and the extreme radii of the receiving bins
   std::vector<std::vector<std::pair<double, Index>>> members(K);
+  std::vector<double> bmin(K, std::numeric_limits<double>::infinity()), bmax(K, -std::numeric_limits<double>::infinity());
   for (int k = 0; k < K; ++k)
     if (gives[k]) members[k].reserve(counts[k]);
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (!mask[i]) continue;
-    const int k = radial_bin_of(rhos[i], lo, delta, K);
+    const int k = bins[i];
+    if (k < 0) continue;
     if (gives[k]) members[k].emplace_back(rhos[i], static_cast<Index>(i));
+    if (receives[k]) {
+      bmin[k] = std::min(bmin[k], rhos[i]);
+      bmax[k] = std::max(bmax[k], rhos[i]);
+    }
   }
-  std::vector<std::pair<Index, double>> moves;  // (row, new radius), applied in order
   for (size_t c = 0; c < pairs.size(); ++c) {
     const int n_mov = out.n_mov[c];
     if (n_mov == 0) continue;
@@ -233,14 +260,12 @@ Once embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
     const size_t first = w < 0 ? s.size() - n_mov : 0;
     if (w < 0 && first > 0) std::nth_element(s.begin(), s.begin() + first, s.end());
     if (w > 0 && static_cast<size_t>(n_mov) < s.size()) std::nth_element(s.begin(), s.begin() + n_mov, s.end());
-    for (size_t k = first; k < first + n_mov; ++k) moves.emplace_back(s[k].second, target);
+    for (size_t k = first; k < first + n_mov; ++k) {  // radial move (theta, phi of eq. 6.1.1 kept)
+      const Index i = s[k].second;
+      const double rho = s[k].first;
+      if (target != rho && rho > 0) radial_move_row(row_ptr(V, i), &out.V(i, 0), o, rho, target);
+    }
     out.n_moved += n_mov;
-  }
-  prepare_output(out.V, n);
-  out.V = V;  // radial move of the chosen rows (theta, phi of eq. 6.1.1 kept); the rest bit-exact
-  for (const auto& [i, target] : moves) {
-    const double rho = rhos[i];
-    if (target != rho && rho > 0) radial_move_row(row_ptr(V, i), &out.V(i, 0), o, rho, target);
   }
   return out;
 }

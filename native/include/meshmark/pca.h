@@ -2,8 +2,6 @@
 #pragma once
 #include "meshmark/mesh.h"
 
-#include <vector>
-
 namespace meshmark {
 
 struct PCA {
@@ -11,7 +9,6 @@ struct PCA {
   Eigen::Matrix3d axes;         // columns q1, q2, q3: unit principal axes
   Eigen::Vector3d eigenvalues;  // lambda1 >= lambda2 >= lambda3: variances along the axes
   Eigen::Vector3d skewness;     // third central moment of the projections on each axis (after the sign rule: >= 0)
-  Eigen::Vector3d proj_min, proj_max;  // range of the projections on each axis (after the sign rule)
 };
 
 // PCA of the rows of V (unweighted covariance, divided by n; two passes over the points).
@@ -22,10 +19,23 @@ struct PCA {
 // largest |projection|; if that also ties, the largest-magnitude component of the axis is positive.
 PCA pca(const Eigen::Ref<const MatrixX3dR>& V);
 
-// The same for the rows with mask[i] != 0 only (no copy). If first_projections is
-// given it receives (q1 . (v_i - centroid)) of those rows in row order, after the sign rule.
+// The same for the rows with mask[i] != 0 only (no copy; an empty mask selects every row).
 // MeshError when mask and V differ in length or no row is selected.
-PCA pca(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask,
-        std::vector<double>* first_projections = nullptr);
+PCA pca(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask);
+
+// The two halves of pca(), for callers that fuse more work into the second pass (radial_origin).
+// pca_frame: pass 1, centroid and covariance from moments about the first selected point (shifted
+// data), eigen-decomposition; axes unoriented, skewness unset. radius is a bound on ||v - centroid||
+// over the selected rows. Empty mask = every row.
+struct PCAFrame {
+  PCA pca;
+  Eigen::Index n = 0;  // selected rows
+  double radius = 0;
+};
+PCAFrame pca_frame(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask);
+
+// The sign rule for one axis q with eigenvalue lambda, given the mean cube m3 and the range
+// [pmin, pmax] of the projections on q: +1 or -1.
+int pca_axis_sign(double m3, double pmin, double pmax, double lambda, const Eigen::Vector3d& q);
 
 }  // namespace meshmark
