@@ -40,7 +40,7 @@ ChoRange cho_range(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const
 // Cho steps 2-3 for one norm: its bin (bins of equal range W) and x in [0, 1], normalised with the
 // bin's range. A norm on an interior boundary goes to the upper bin; rho_max to the last bin.
 inline int cho_bin_of(double rho, const ChoRange& r, int K, double& x) {
-  int k = static_cast<int>(std::floor((rho - r.lo) / r.W));
+  int k = static_cast<int>((rho - r.lo) / r.W);  // floor: the quotient is >= 0 (rho_min is the least norm)
   k = std::min(std::max(k, 0), K - 1);
   x = std::min(std::max((rho - (r.lo + r.W * k)) / r.W, 0.0), 1.0);  // Cho step 3
   return k;
@@ -158,11 +158,10 @@ double bin_stat(const double* l, Index n, double k, ChoMethod method, double gua
 struct Workspace {
   Scratch<double> rho;       // (n,) ||v_i - c|| (Cho step 1)
   Scratch<Index> bin;        // (n,) bin of each vertex, -1 outside every bin
-  Scratch<double> u;         // (n,) x (mean) or y = 2x - 1 (variance)
-  std::vector<Index> start;  // (K+1,) offsets of the searched bins in gu, gl (other bins empty)
-  Scratch<double> gu;        // x or |y| of the searched bins' vertices, grouped by bin in vertex order;
-                             // after the search the mapped x^k or |y|^k
-  Scratch<double> gl;        // ln of gu
+  std::vector<Index> start;  // (K+1,) offsets of the searched bins in g (other bins empty)
+  Scratch<double> g;         // the searched bins' vertices grouped by bin, in vertex order: ln x (mean) or
+                             // ln|2x-1| (variance); after the search the mapped x^k or |2x-1|^k
+  Scratch<signed char> sy;   // (variance) sign of y = 2x-1 of the grouped vertices
   Scratch<double> a;         // powers of one bin (bin_stat)
 };
 
@@ -178,17 +177,16 @@ struct OnceResult {
 // One embedding about the centre c (Cho steps 1-6) into out (whose buffer is reused when it has the
 // right size). Sequential passes over the vertices: rho and its range; the bins with the k = 1
 // statistic; the grouping of the searched bins (then their ln, vectorised); the mapping, written
-// with the copy of the unmoved rows and the marked mesh's centroid.
+// with the copy of the unmoved rows and the marked mesh's centroid. Per-vertex scratch: rho and the
+// bin (12 bytes), plus 8 bytes (9 for the variance method) for each vertex of a searched bin.
 void embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask, int K,
                 const std::vector<int>& bins_used, const std::vector<int>& bits, const ChoEmbedOptions& o,
                 const Eigen::Vector3d& c, Workspace& ws, OnceResult& out) {
-  constexpr double kNegInf = -std::numeric_limits<double>::infinity();
   const Eigen::Index n = V.rows();
   ws.rho.resize(n);
   const ChoRange r = cho_range(V, mask, c, K, ws.rho.data());  // Cho steps 1-2
   const bool mean = o.method == ChoMethod::Mean;
   ws.bin.resize(n);
-  ws.u.resize(n);
   std::vector<double> s1(K, 0.0);  // sum of x (mean) or (2x-1)^2 (variance): the statistic at k = 1
   std::vector<Index> cnt(K, 0);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -200,9 +198,7 @@ void embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
     const int k = cho_bin_of(ws.rho[i], r, K, x);  // Cho steps 2-3
     ws.bin[i] = k;
     ++cnt[k];
-    const double u = mean ? x : 2 * x - 1;
-    ws.u[i] = u;
-    s1[k] += mean ? u : u * u;
+    s1[k] += mean ? x : (2 * x - 1) * (2 * x - 1);
   }
   const double ref = mean ? 0.5 : 1.0 / 3.0;
   // h(m) >= 0 <=> the condition of Cho step 4 holds at step m; h(0) from the k = 1 statistic
@@ -212,24 +208,34 @@ void embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
     const int bin = bins_used[c2];
     if (cnt[bin] > 0 && h_of(bits[c2], s1[bin] / cnt[bin]) < 0) need[bin] = 1;
   }
-  // group x or |y| of those bins contiguously (counting sort, stable), then their logarithms
+  // group x or |y| of those bins contiguously (counting sort, stable), then take their logarithms with
+  // the derivative of the statistic at k = 1 (dS/dk = mean of x ln x or 2 y^2 ln|y|; first estimate)
   ws.start.assign(K + 1, 0);
   Index largest = 0;
   for (int k = 0; k < K; ++k) {
     ws.start[k + 1] = ws.start[k] + (need[k] ? cnt[k] : 0);
     if (need[k]) largest = std::max(largest, cnt[k]);
   }
-  const Index total = ws.start[K];
-  ws.gu.resize(total);
-  ws.gl.resize(total);
+  ws.g.resize(ws.start[K]);
+  if (!mean) ws.sy.resize(ws.start[K]);
   ws.a.resize(largest);
   std::vector<Index> fill(ws.start.begin(), ws.start.end() - 1);
   for (Eigen::Index i = 0; i < n; ++i) {
     const int k = ws.bin[i];
-    if (k >= 0 && need[k]) ws.gu[fill[k]++] = std::abs(ws.u[i]);
+    if (k < 0 || !need[k]) continue;
+    double x;
+    cho_bin_of(ws.rho[i], r, K, x);  // the x of the binning pass, recomputed
+    if (mean) {
+      ws.g[fill[k]++] = x;
+    } else {
+      const double y = 2 * x - 1;
+      ws.sy[fill[k]] = y < 0 ? -1 : (y > 0 ? 1 : 0);
+      ws.g[fill[k]++] = std::abs(y);
+    }
   }
-  std::copy(ws.gu.data(), ws.gu.data() + total, ws.gl.data());
-  log_inplace(ws.gl.data(), total);  // l = ln x or ln|y|
+  std::vector<double> d1(K, 0.0);
+  for (int k = 0; k < K; ++k)
+    if (need[k]) d1[k] = (mean ? 1.0 : 2.0) * log_inplace_moment(ws.g.data() + ws.start[k], cnt[k], mean ? 1 : 2);
 
   out.evaluations = 0;
   out.failed.clear();
@@ -249,8 +255,7 @@ void embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
       out.k[bin] = h0 >= 0 ? 1.0 : k_of(m_hi);
       continue;
     }
-    const double* lb = ws.gl.data() + ws.start[bin];
-    const double* ub = ws.gu.data() + ws.start[bin];
+    const double* lb = ws.g.data() + ws.start[bin];
     // h increases with m. Root estimates come from Newton's method on 1/S, which is nearly linear in
     // k (exactly 1/(k+1) or 1/(2k+1) for uniform x): from S and dS/dk at step m, with dk/dm = -dk
     // (w = +1) or +dk (w = -1). They only choose where to evaluate next.
@@ -267,10 +272,7 @@ void embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
       guess = estimate(m, s, dsdk);
       return h_of(w, s);
     };
-    double d1 = 0;  // dS/dk at k = 1: mean of x ln x or 2 y^2 ln|y| (the first estimate)
-    for (Index j = 0; j < count; ++j)
-      if (lb[j] != kNegInf) d1 += mean ? lb[j] * ub[j] : 2 * lb[j] * ub[j] * ub[j];
-    guess = estimate(0, s1[bin] / count, d1 / count);
+    guess = estimate(0, s1[bin] / count, d1[bin] / count);
     // The first step m with h(m) >= 0 (= the sequential search of Cho step 4), by a safeguarded
     // search on integer m inside the bracket h(lo) < 0 <= h(hi): the next step is ceil(estimate), the
     // first integer at or right of the estimated root (so the search ends by evaluating the two steps
@@ -291,10 +293,10 @@ void embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
     if (hi == m_hi && h(m_hi) < 0) out.failed.push_back(bin);  // the limit k = dk or k_max is not enough
     out.k[bin] = k_of(hi);
   }
-  // Cho step 4's mapping of the moved bins, vectorised: gu <- x^k or |y|^k
+  // Cho step 4's mapping of the moved bins, vectorised: g <- x^k or |y|^k
   for (int k = 0; k < K; ++k)
     if (need[k] && out.k[k] != 1.0)
-      exp_scaled(ws.gl.data() + ws.start[k], out.k[k], ws.gu.data() + ws.start[k], ws.start[k + 1] - ws.start[k]);
+      exp_scaled(ws.g.data() + ws.start[k], out.k[k], ws.g.data() + ws.start[k], ws.start[k + 1] - ws.start[k]);
   // Cho step 5: denormalise with the same bin range, move radially (theta, phi kept); every other
   // row is copied bit-exactly. The centroid of the result is summed in the same order as masked_centroid.
   prepare_output(out.V, n);
@@ -307,11 +309,12 @@ void embed_once(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const Ve
     const int k = ws.bin[i];
     bool moved = false;
     if (k >= 0 && need[k] && out.k[k] != 1.0) {
-      const double a = ws.gu[fill[k]++];  // x^k or |y|^k
-      const double u = ws.u[i];
-      double xm = mean ? a : std::min(std::max(0.5 * ((u < 0 ? -a : (u > 0 ? a : 0.0)) + 1), 0.0), 1.0);  // x'
-      if (o.guard > 0) xm = std::min(std::max(xm, o.guard), 1 - o.guard);
+      const Index j = fill[k]++;
+      const double a = ws.g[j];  // x^k or |y|^k
       const double rho = ws.rho[i];
+      double xm = a;  // x' (Figs. 2.4-2.5)
+      if (!mean) xm = std::min(std::max(0.5 * (ws.sy[j] * a + 1), 0.0), 1.0);  // 2x' - 1 = sgn(y)|y|^k
+      if (o.guard > 0) xm = std::min(std::max(xm, o.guard), 1 - o.guard);
       const double rho_new = r.lo + r.W * (k + xm);  // Cho step 5: the same bin range
       if (rho_new != rho) {
         ++out.n_moved;

@@ -94,7 +94,7 @@ namespace {
 
 // Eqs. 6.1.2-6.1.3 for one norm: 0-based bin, rho_max in B_K.
 inline int radial_bin_of(double rho, double lo, double delta, int K) {
-  const int k = static_cast<int>(std::floor((rho - lo) / delta));  // eq. 6.1.3
+  const int k = static_cast<int>((rho - lo) / delta);  // eq. 6.1.3; floor, as rho >= rho_min
   return std::min(std::max(k, 0), K - 1);
 }
 

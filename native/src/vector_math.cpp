@@ -78,4 +78,24 @@ MESHMARK_CLONES void log_inplace(double* x, std::size_t n) {
   for (std::size_t j = 0; j < n; ++j) x[j] = log1(x[j]);
 }
 
+MESHMARK_CLONES double log_inplace_moment(double* x, std::size_t n, int p) {
+  constexpr int L = 8;  // independent partial sums, so that the loop vectorises without reassociation
+  double acc[L] = {};
+  std::size_t j = 0;
+  for (; j + L <= n; j += L)
+    for (int t = 0; t < L; ++t) {
+      const double v = x[j + t], l = log1(v), w = p == 1 ? v : v * v;
+      acc[t] += v > 0 ? w * l : 0.0;
+      x[j + t] = l;
+    }
+  double s = 0;
+  for (; j < n; ++j) {
+    const double v = x[j], l = log1(v), w = p == 1 ? v : v * v;
+    s += v > 0 ? w * l : 0.0;
+    x[j] = l;
+  }
+  for (int t = 0; t < L; ++t) s += acc[t];
+  return s;
+}
+
 }  // namespace meshmark

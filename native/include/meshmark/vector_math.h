@@ -14,4 +14,8 @@ void exp_scaled(const double* l, double k, double* out, std::size_t n);
 // x[j] = ln x[j] in place, for x[j] >= 0 finite: -inf at 0, subnormals handled.
 void log_inplace(double* x, std::size_t n);
 
+// The same, returning sum_j x_j^p ln x_j (p = 1 or 2) over x_j > 0, summed in an unspecified order
+// (a derivative for a search's first step, not a result).
+double log_inplace_moment(double* x, std::size_t n, int p);
+
 }  // namespace meshmark
