@@ -51,9 +51,13 @@ void bind_radial(py::module_& m) {
 
   m.def("cho_statistics", [](VRef V, MRef mask, int K, const std::string& method) {
           check_mask(V, mask);
-          const Eigen::Vector3d c = masked_centroid(V, mask);
-          const ChoBins b = cho_bins(radial_distances(V, mask, c), K, mask);
-          return py::make_tuple(cho_statistics(b, cho_method(method)), b.counts, c);
+          const ChoMethod mt = cho_method(method);
+          ChoStatistics s;
+          {
+            py::gil_scoped_release release;
+            s = cho_statistics(V, mask, K, mt);
+          }
+          return py::make_tuple(std::move(s.stat), std::move(s.counts), Eigen::Vector3d(s.center));
         }, py::arg("V"), py::arg("mask"), py::arg("K"), py::arg("method") = "mean");
 
   m.def("cho_embed", [](VRef V, MRef mask, int K, std::vector<int> bins, std::vector<int> bits,
@@ -94,8 +98,14 @@ void bind_radial(py::module_& m) {
 
   m.def("radial_counts", [](VRef V, MRef mask, int K, const std::string& mode) {
           check_mask(V, mask);
-          const RadialOrigin o = radial_origin(V, mask, origin_mode(mode));
-          RadialHistogram h = radial_histogram(radial_distances(V, mask, o.origin), K, mask);
+          const RadialOriginMode om = origin_mode(mode);
+          RadialOrigin o;
+          RadialCounts h;
+          {
+            py::gil_scoped_release release;
+            o = radial_origin(V, mask, om);
+            h = radial_counts(V, mask, K, o.origin);
+          }
           return py::make_tuple(std::move(h.counts), Eigen::Vector3d(o.origin), h.rho_min, h.rho_max);
         }, py::arg("V"), py::arg("mask"), py::arg("K"), py::arg("origin_mode") = "axis");
 

@@ -42,7 +42,7 @@ ChoSteganalysisResult cho_steganalysis(const Eigen::Ref<const MatrixX3dR>& V, co
     sum.assign(K, 0.0);
     cnt.assign(K, 0);
     for (const double x : r) {  // the binning and normalisation of cho_bins
-      int k = static_cast<int>(std::floor((x - lo) / W));
+      int k = static_cast<int>((x - lo) / W);  // floor: x >= lo
       k = std::min(std::max(k, 0), K - 1);
       sum[k] += std::min(std::max((x - (lo + W * k)) / W, 0.0), 1.0);
       ++cnt[k];

@@ -35,6 +35,18 @@ ChoBins cho_bins(const Eigen::Ref<const Eigen::VectorXd>& rho, int K, const Eige
 // 0 for empty bins.
 Eigen::VectorXd cho_statistics(const ChoBins& bins, ChoMethod method);
 
+struct ChoStatistics {
+  Eigen::VectorXd stat;    // (K,) as cho_statistics(bins, method)
+  VectorXi counts;         // (K,) vertices per bin
+  Eigen::Vector3d center;  // the masked centroid (Cho step 1)
+};
+
+// Cho steps 1-3 and the bin statistics straight from V, the blind detector: the same numbers as
+// cho_statistics(cho_bins(radial_distances(V, mask, c), K, mask), method) with c the masked centroid,
+// in three passes over V and no per-vertex storage. Same errors as cho_bins.
+ChoStatistics cho_statistics(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask, int K,
+                             ChoMethod method);
+
 struct ChoEmbedOptions {
   ChoMethod method = ChoMethod::Mean;
   double alpha = 0.04;     // strength factor (thesis §7.4.4: 0.04 for the mean method)

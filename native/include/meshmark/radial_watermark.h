@@ -38,6 +38,17 @@ struct RadialHistogram {
 RadialHistogram radial_histogram(const Eigen::Ref<const Eigen::VectorXd>& rho, int K,
                                  const Eigen::Ref<const VectorXb>& mask);
 
+struct RadialCounts {
+  VectorXi counts;  // (K,)
+  double rho_min = 0, rho_max = 0, delta = 0;
+};
+
+// The histogram counts about a given origin o straight from V (eqs. 6.1.1-6.1.3), the blind detector
+// of eq. 6.2.10: the counts of radial_histogram(radial_distances(V, mask, o), K, mask) in two passes
+// without per-vertex storage. Same errors as radial_histogram.
+RadialCounts radial_counts(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask, int K,
+                           const Eigen::Vector3d& o);
+
 struct RadialEmbedOptions {
   int n_thr = 43;        // eq. 6.1.6 (Table 6.1)
   RadialOriginMode origin_mode = RadialOriginMode::Axis;
