@@ -3,13 +3,11 @@
     .venv/bin/python examples/laplacian_capacity.py [--out out/laplacian_capacity.csv] [--corpus]
 """
 import argparse
-import csv
-import pathlib
 
 import meshmark
+from _common import SHARED, write_csv
 from meshmark.watermark import laplacian as L
 
-SHARED = pathlib.Path(__file__).resolve().parents[2] / "shared" / "meshes"
 # Table 7.1: model -> (N, K, n_thr, n_robust, C)
 TABLE_7_1 = {"bunny": (34835, 498, 46, 5, 21), "rabbit": (70658, 1010, 46, 5, 102), "horse": (19851, 284, 46, 5, 22),
              "dragon": (50000, 715, 46, 5, 103), "elephant": (24955, 498, 46, 5, 25), "hand": (17117, 245, 46, 5, 52),
@@ -35,12 +33,7 @@ def main():
         t = TABLE_7_1.get(p.stem)
         rows.append({"mesh": f"{p.parent.name}/{p.name}", "N": n_ref, "K": prm["K"], "n_thr": 46, "capacity": cap,
                      "thesis_N": t[0] if t else "", "thesis_K": t[1] if t else "", "thesis_C": t[4] if t else ""})
-    out = pathlib.Path(a.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with open(out, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_csv(rows, a.out)
     print("| mesh | N | K | capacity | thesis N | thesis K | thesis C |\n|---|---:|---:|---:|---:|---:|---:|")
     for r in rows:
         print(f"| {r['mesh']} | {r['N']} | {r['K']} | {r['capacity']} | {r['thesis_N']} | {r['thesis_K']} | {r['thesis_C']} |")

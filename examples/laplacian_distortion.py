@@ -10,17 +10,15 @@ and the bounded Hausdorff distance h(marked -> original); the mean normal degrad
 degrees (eq. 3.2.2); CDR after extraction; the PCG steps and rounds.
 """
 import argparse
-import csv
-import pathlib
 
 import numpy as np
 
 import meshmark
+from _common import SHARED, write_csv
 from meshmark.metrics import bbox_diagonal, hausdorff_distance, normal_degradation, vertex_rmse
 from meshmark.watermark import laplacian as L
 from meshmark.watermark.payload import Payload
 
-SHARED = pathlib.Path(__file__).resolve().parents[2] / "shared" / "meshes"
 
 
 def main():
@@ -50,13 +48,8 @@ def main():
                          "dis_av_deg": normal_degradation(m, r.V, degrees=True), "cdr": x.cdr,
                          "pcg_steps": r.stats.get("n_pcg_iterations", 0), "rounds": r.stats.get("n_solve_rounds", 1)})
             print(" ".join(f"{k}={v:.3g}" if isinstance(v, float) else f"{k}={v}" for k, v in rows[-1].items()), flush=True)
-    out = pathlib.Path(a.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with open(out, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    print(f"\n| mesh | carriers | solver | drift | RMSE | Hausdorff | dis_av (deg) | CDR |\n|---|---:|---|---:|---:|---:|---:|---:|")
+    out = write_csv(rows, a.out)
+    print("\n| mesh | carriers | solver | drift | RMSE | Hausdorff | dis_av (deg) | CDR |\n|---|---:|---|---:|---:|---:|---:|---:|")
     for r in rows:
         print(f"| {r['mesh']} | {r['carriers']} | {r['solver']} | {r['drift']:.1e} | {r['rmse']:.1e} | {r['hausdorff']:.1e} "
               f"| {r['dis_av_deg']:.3f} | {r['cdr']:.2f} |")

@@ -12,7 +12,6 @@ reported too: a mesh with fewer than 20 carriers can never reach P(false alarm) 
 so its exact read-back is not "detected" by design.
 """
 import argparse
-import csv
 import pathlib
 import sys
 import tempfile
@@ -20,10 +19,10 @@ import tempfile
 import numpy as np
 
 import meshmark
+from _common import SHARED, write_csv
 from meshmark.watermark import laplacian as L
 from meshmark.watermark.payload import Payload
 
-SHARED = pathlib.Path(__file__).resolve().parents[2] / "shared" / "meshes"
 
 
 def rotation(rng):
@@ -84,12 +83,7 @@ def main():
             bad = [row["attack"] for row in rows[-8:] if not row["ok"]]
             print(f"{str(p.relative_to(SHARED)):<48} carriers {r.capacity:4d}  {'OK' if not bad else 'FAIL ' + ', '.join(bad)}",
                   flush=True)
-    out = pathlib.Path(a.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with open(out, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    out = write_csv(rows, a.out)
     n_mesh = len({r["mesh"] for r in rows})
     print(f"{n_mesh} meshes x 8 conditions: {len(rows) - failures} of {len(rows)} with CDR 1.0, the exact message "
           f"and detection (where >= 20 carriers make it possible); {skipped} meshes cannot carry a framed payload at the defaults. Wrote {out}")

@@ -365,8 +365,10 @@ def test_storage_similarity_permutation_on_classic_meshes(rel, tmp_path):
     """The classic meshes that carry a framed payload at thesis defaults (examples/laplacian_no_attack.py
     runs the same over all 137 shared meshes that do: 1096 of 1096 conditions exact)."""
     import importlib.util
-    spec = importlib.util.spec_from_file_location("no_attack", os.path.join(os.path.dirname(__file__), "..", "examples",
-                                                                              "laplacian_no_attack.py"))
+    examples = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")
+    if examples not in sys.path:
+        sys.path.insert(0, examples)  # the example imports its sibling _common
+    spec = importlib.util.spec_from_file_location("no_attack", os.path.join(examples, "laplacian_no_attack.py"))
     ex = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(ex)
     m = meshmark.read_mesh(shared_mesh(rel))
