@@ -1,9 +1,11 @@
 // Bindings of the distortion analysis of thesis ch. 3-5 (meshmark.analysis): numpy in, numpy out.
 #include "bindings.h"
 
+#include "meshmark/curvature_degradation.h"
 #include "meshmark/error.h"
 #include "meshmark/gaussian_curvature.h"
 #include "meshmark/normal_angle_expectation.h"
+#include "meshmark/normal_degradation_sweep.h"
 #include "meshmark/quantization_level.h"
 
 #include <pybind11/eigen.h>
@@ -109,6 +111,29 @@ void bind_analysis(py::module_& m) {
           }
           return py::make_tuple(std::move(g.kappa), std::move(g.interior), std::move(g.boundary));
         }, py::arg("V"), py::arg("T"));
+  m.def("normal_degradation_sweep", [](VRef V, TRef T, const Eigen::Ref<const VectorXi>& t, std::uint64_t seed,
+                                       int repeats, double mu, double sigma) {
+          NormalDegradationSweep r;
+          {
+            py::gil_scoped_release release;
+            r = normal_degradation_sweep(V, T, t, seed, repeats, mu, sigma);
+          }
+          return py::make_tuple(std::move(r.mean), std::move(r.variance), std::move(r.excluded));
+        }, py::arg("V"), py::arg("T"), py::arg("t"), py::arg("seed"), py::arg("repeats"), py::arg("mu") = 0.0,
+        py::arg("sigma") = 3.5);
+  m.def("mean_face_normals", &mean_face_normals, py::arg("V"), py::arg("T"), Release());
+  m.def("curvature_degradation", [](VRef V, TRef T, const Eigen::Ref<const VectorXi>& t, const std::string& direction,
+                                    const Eigen::Ref<const VectorXb>& moved, const Eigen::Ref<const VectorXb>& measured,
+                                    double scale, int repeats, std::uint64_t seed) {
+          Displacement d;
+          if (direction == "normal") d = Displacement::Normal;
+          else if (direction == "tangential") d = Displacement::Tangential;
+          else if (direction == "random") d = Displacement::Random;
+          else throw MeshError("unknown direction '" + direction + "' (expected normal, tangential or random)");
+          py::gil_scoped_release release;
+          return curvature_degradation(V, T, t, d, moved, measured, scale, repeats, seed);
+        }, py::arg("V"), py::arg("T"), py::arg("t"), py::arg("direction"), py::arg("moved"), py::arg("measured"),
+        py::arg("scale"), py::arg("repeats"), py::arg("seed"));
 }
 
 }  // namespace meshmark::python
