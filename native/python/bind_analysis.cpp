@@ -121,6 +121,7 @@ void bind_analysis(py::module_& m) {
           return py::make_tuple(std::move(r.mean), std::move(r.variance), std::move(r.excluded));
         }, py::arg("V"), py::arg("T"), py::arg("t"), py::arg("seed"), py::arg("repeats"), py::arg("mu") = 0.0,
         py::arg("sigma") = 3.5);
+  m.def("sweep_seed", &sweep_seed, py::arg("seed"), py::arg("t"), py::arg("r"));
   m.def("mean_face_normals", &mean_face_normals, py::arg("V"), py::arg("T"), Release());
   m.def("curvature_degradation", [](VRef V, TRef T, const Eigen::Ref<const VectorXi>& t, const std::string& direction,
                                     const Eigen::Ref<const VectorXb>& moved, const Eigen::Ref<const VectorXb>& measured,
