@@ -58,7 +58,10 @@ void bind_analysis(py::module_& m) {
             py::gil_scoped_release release;
             H = triangle_heights(V, T);
           }
-          return py::make_tuple(std::move(H.h), std::move(H.usable));
+          Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> h(H.inv_h.rows(), 3);
+          for (Eigen::Index f = 0; f < h.rows(); ++f)  // heights ascending (0 for unusable triangles)
+            for (int k = 0; k < 3; ++k) h(f, k) = H.usable[f] ? 1.0 / H.inv_h(f, k) : 0.0;
+          return py::make_tuple(std::move(h), std::move(H.usable));
         }, py::arg("V"), py::arg("T"));
   m.def("mesh_normal_expectation", [](VRef V, TRef T, const Eigen::Ref<const Eigen::VectorXd>& l,
                                       const std::string& bound, bool exact, double eta) {

@@ -2,7 +2,6 @@
 #include "meshmark/error.h"
 #include "meshmark/normal_angle_expectation.h"
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -15,21 +14,22 @@ namespace {
 constexpr int kLowest = -64, kHighest = 160;  // search range of the levels
 
 // per-triangle expectation for noise half-width l
-inline double triangle_expectation(const double* h, double l, NoiseBound bound, bool exact, double eta) {
-  auto f = [&](double hk) { return exact ? expected_normal_angle(l / hk) : 0.5 * l / hk; };  // eq. 4.1.7 / 4.1.9
+inline double triangle_expectation(const double* q, double l, NoiseBound bound, bool exact, double eta) {
+  // q = inverse heights, r = l / h = l q
+  auto f = [&](double qk) { return exact ? expected_normal_angle(l * qk) : 0.5 * l * qk; };  // eq. 4.1.7 / 4.1.9
   switch (bound) {
-    case NoiseBound::Min: return f(h[0]);                           // eq. 4.1.10
-    case NoiseBound::Max: return 2 * f(h[0]);                       // eq. 4.1.15
-    default: return eta * (f(h[0]) + f(h[1]) + f(h[2]));            // eq. 4.1.16
+    case NoiseBound::Min: return f(q[0]);                           // eq. 4.1.10
+    case NoiseBound::Max: return 2 * f(q[0]);                       // eq. 4.1.15
+    default: return eta * (f(q[0]) + f(q[1]) + f(q[2]));            // eq. 4.1.16
   }
 }
 
 // sum of the linear coefficients: E_lin,j = l * s_j / 2, s_j in 1 / model units
-inline double linear_coefficient(const double* h, NoiseBound bound, double eta) {
+inline double linear_coefficient(const double* q, NoiseBound bound, double eta) {
   switch (bound) {
-    case NoiseBound::Min: return 1 / h[0];
-    case NoiseBound::Max: return 2 / h[0];
-    default: return eta * (1 / h[0] + 1 / h[1] + 1 / h[2]);  // = eta / rho (eq. 4.1.17)
+    case NoiseBound::Min: return q[0];
+    case NoiseBound::Max: return 2 * q[0];
+    default: return eta * (q[0] + q[1] + q[2]);  // = eta / rho (eq. 4.1.17)
   }
 }
 
@@ -41,29 +41,54 @@ void check_positive(double x, const char* name) {
 }
 }  // namespace
 
+namespace {
+// Calls fn(f, q, ok) for every triangle with q[3] its inverse heights 1/h1 >= 1/h2 >= 1/h3
+// (|edge| / 2 area; 0 if not ok = zero or non-finite area). Raw pointers: this loop is the cost of a
+// level on a large mesh (three vertex gathers per triangle).
+template <class Fn>
+void for_each_inverse_heights(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T, Fn&& fn) {
+  const double* vp = V.data();
+  const Eigen::Index vs = V.outerStride();
+  for (Eigen::Index f = 0; f < T.rows(); ++f) {
+    const double* a = vp + vs * T(f, 0);
+    const double* b = vp + vs * T(f, 1);
+    const double* c = vp + vs * T(f, 2);
+    const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, ac[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double bc[3] = {c[0] - b[0], c[1] - b[1], c[2] - b[2]};
+    const double cx = ab[1] * ac[2] - ab[2] * ac[1], cy = ab[2] * ac[0] - ab[0] * ac[2],
+                 cz = ab[0] * ac[1] - ab[1] * ac[0];
+    const double area2 = std::sqrt(cx * cx + cy * cy + cz * cz);
+    const double e0 = std::sqrt(bc[0] * bc[0] + bc[1] * bc[1] + bc[2] * bc[2]);
+    const double e1 = std::sqrt(ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2]);
+    const double e2 = std::sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
+    const double lo = std::min(e0, std::min(e1, e2)), hi = std::max(e0, std::max(e1, e2));
+    const double mid = e0 + e1 + e2 - lo - hi;
+    const bool ok = area2 > 0 && std::isfinite(area2) && lo > 0;
+    // 1 / h_k = |opposite edge| / 2 area: the longest edge has the smallest height
+    const double inv = ok ? 1.0 / area2 : 0.0;
+    const double q[3] = {hi * inv, mid * inv, lo * inv};
+    fn(f, q, ok);
+  }
+}
+}  // namespace
+
 TriangleHeights triangle_heights(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T) {
-  const Eigen::Index t = T.rows();
   TriangleHeights H;
-  H.h.resize(t, 3);
-  H.usable = VectorXb::Zero(t);
-  for (Eigen::Index f = 0; f < t; ++f) {
-    const Eigen::Vector3d a = V.row(T(f, 0)), b = V.row(T(f, 1)), c = V.row(T(f, 2));
-    const double area2 = (b - a).cross(c - a).norm();
-    double e[3] = {(b - c).norm(), (c - a).norm(), (a - b).norm()};
-    std::sort(e, e + 3);  // the longest edge has the smallest height
-    const bool ok = area2 > 0 && std::isfinite(area2) && e[0] > 0;
-    for (int k = 0; k < 3; ++k) H.h(f, k) = ok ? area2 / e[2 - k] : 0.0;
+  H.inv_h.resize(T.rows(), 3);
+  H.usable = VectorXb::Zero(T.rows());
+  for_each_inverse_heights(V, T, [&](Eigen::Index f, const double* q, bool ok) {
+    for (int k = 0; k < 3; ++k) H.inv_h(f, k) = q[k];
     H.usable[f] = ok;
     H.n_usable += ok;
-  }
+  });
   return H;
 }
 
 double mesh_normal_expectation(const TriangleHeights& H, double l, NoiseBound bound, bool exact, double eta) {
   if (H.n_usable == 0) return std::numeric_limits<double>::quiet_NaN();
   double s = 0;
-  for (Eigen::Index f = 0; f < H.h.rows(); ++f)
-    if (H.usable[f]) s += triangle_expectation(&H.h(f, 0), l, bound, exact, eta);
+  for (Eigen::Index f = 0; f < H.inv_h.rows(); ++f)
+    if (H.usable[f]) s += triangle_expectation(&H.inv_h(f, 0), l, bound, exact, eta);
   return s / static_cast<double>(H.n_usable);  // eq. 4.2.18
 }
 
@@ -74,14 +99,16 @@ QuantizationLevel quantization_level(const Eigen::Ref<const MatrixX3dR>& V, cons
   check_positive(eta, "eta");
   if (!(switch_tol >= 0)) throw MeshError("switch_tol must be >= 0");
   QuantizationLevel out;
+  // one pass over the geometry; the exact checks then read the stored inverse heights (measured: the
+  // gathers and square roots cost ~3x more than writing and re-reading (t,3) doubles)
   const TriangleHeights H = triangle_heights(V, T);
   if (H.n_usable == 0) throw MeshError("the mesh has no usable triangle (every triangle has zero area)");
   out.n_triangles = H.n_usable;
   out.cube = (V.colwise().maxCoeff() - V.colwise().minCoeff()).maxCoeff();
   const double L = out.cube, M = static_cast<double>(H.n_usable);
   double S = 0;
-  for (Eigen::Index f = 0; f < H.h.rows(); ++f)
-    if (H.usable[f]) S += linear_coefficient(&H.h(f, 0), bound, eta);
+  for (Eigen::Index f = 0; f < H.inv_h.rows(); ++f)
+    if (H.usable[f]) S += linear_coefficient(&H.inv_h(f, 0), bound, eta);
   S *= L;  // heights in units of L
   // closed form (eqs. 4.3.20, 4.3.21), then the integer boundary checked against E_lin itself
   auto e_lin = [&](int k) { return std::ldexp(S / M, -(k + 2)); };
@@ -140,7 +167,7 @@ AdaptiveLevels adaptive_levels(const Eigen::Ref<const MatrixX3dR>& V, const Eige
       ej = std::min(ej, alpha - alpha * std::exp(-d * d / (2 * sigma * sigma)) + eps0);
     }
     out.triangle_tolerance[f] = ej;
-    const double* h = &H.h(f, 0);
+    const double* h = &H.inv_h(f, 0);
     if (!(ej > 0)) {
       out.triangle_level[f] = kHighest;
     } else {

@@ -12,12 +12,14 @@ enum class NoiseBound {
 };
 
 struct TriangleHeights {
-  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> h;  // (t,3) heights, h1 <= h2 <= h3, model units
+  // (t,3) inverse heights 1/h1 >= 1/h2 >= 1/h3 (1 / model units); 0 for unusable triangles. Stored
+  // inverted because everything uses l/h (and sum 1/h_k = 1/rho, eq. 4.1.17).
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> inv_h;
   VectorXb usable;    // (t,) 1 if the triangle has a finite, non-zero area (others are skipped everywhere)
   Eigen::Index n_usable = 0;
 };
 
-// Heights h_k = 2 area / |opposite edge| of every triangle.
+// Heights h_k = 2 area / |opposite edge| of every triangle (as inverse heights |edge| / 2 area).
 TriangleHeights triangle_heights(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T);
 
 // E_mesh(theta) = sum_j E_j / M over the usable triangles                                   (eq. 4.2.18)
