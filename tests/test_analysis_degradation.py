@@ -199,10 +199,13 @@ def test_cli_json_outputs(tmp_path):
     (("quantize", "{cow}", "{out}", "--tolerance", "0"), "tolerance"),
     (("curvature", "{cow}", "--t-min", "30"), "at least 2 levels"),
     (("quantization", "{missing}", "--tolerance", "1"), ""),
+    (("quantization", "{flat}", "--tolerance", "1"), "no usable triangle"),
+    (("quantize", "{flat}", "{out}", "--tolerance", "1"), "no usable triangle"),
 ])
 def test_cli_bad_input_exit_2(tmp_path, args, message):
     fill = {"cow": str(shared_mesh("classic/cow.obj")), "out": str(tmp_path / "o.ply"),
-            "missing": str(tmp_path / "none.obj")}
+            "missing": str(tmp_path / "none.obj"), "flat": str(tmp_path / "flat.obj")}
+    (tmp_path / "flat.obj").write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\nf 2 3 4\n")
     p = _cli(*[a.format(**fill) for a in args])
     assert p.returncode == 2, (p.returncode, p.stderr)
     assert message in p.stderr and "Traceback" not in p.stderr

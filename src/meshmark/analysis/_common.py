@@ -36,6 +36,6 @@ def positive(x, name: str) -> float:
 
 
 def seed_value(seed) -> int:
-    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or not 0 <= int(seed) < 2 ** 64:
-        raise MeshError(f"seed must be an integer in 0 .. 2^64 - 1, got {seed!r}")
-    return int(seed)
+    """An integer seed in 0 .. 2^64 - 1 (the attacks' rule)."""
+    from ..attacks import _seed
+    return _seed(seed)
