@@ -210,3 +210,16 @@ def test_cli_bad_input_exit_2(tmp_path, args, message):
     assert p.returncode == 2, (p.returncode, p.stderr)
     assert message in p.stderr and "Traceback" not in p.stderr
     assert not (tmp_path / "o.ply").exists()
+
+
+@pytest.mark.parametrize("name", ["elephant.off", "fertility.off", "horse.ply", "camelhead.off", "bunny.obj"])
+def test_gauss_bonnet(name):
+    """Discrete Gauss-Bonnet: the interior angle deficits plus the boundary deficits pi - sum alpha
+    (eq. 5.1.1 with the boundary rule of docs/analysis.md) sum to 2 pi chi, chi = V - E + F."""
+    m = meshmark.read_mesh(shared_mesh(f"classic/{name}"))
+    g = A.gaussian_curvature(m)
+    used = m.referenced().astype(bool)
+    chi = int(used.sum()) - len(m.edges()) + m.n_faces
+    assert g["kappa"][used].sum() == pytest.approx(2 * math.pi * chi, abs=1e-6)
+    if name in ("elephant.off", "fertility.off"):  # genus 3 and 4 (SOURCES.md)
+        assert chi == {"elephant.off": -4, "fertility.off": -6}[name]
