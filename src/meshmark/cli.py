@@ -373,5 +373,7 @@ def steganalysis_cho(inp, K_min, K_max, eps, eps2, as_json):
     sys.exit(0 if d["marked"] else 1)
 
 
+from .analysis.cli import analyze; main.add_command(analyze)  # noqa: E402,E702  (thesis ch. 3-5)
+
 if __name__ == "__main__":  # pragma: no cover
     main()
