@@ -24,7 +24,7 @@ from meshmark.watermark import METHODS, capacity as wm_capacity, embed as wm_emb
 from meshmark.watermark import load_keyfile, save_keyfile
 from meshmark.watermark.payload import OVERHEAD_BITS, Payload
 
-from . import bridge, properties, study
+from . import bridge, messages, properties, study
 from . import params as _params
 
 # Session state kept out of the .blend: the last keyfile made by Embed (for "Save keyfile") and the
@@ -53,6 +53,14 @@ class _Progress:
         self.wm.progress_end()
 
 
+def operator_id(name: str) -> str:
+    """``meshmark.verify`` for ``MESHMARK_OT_verify`` (Blender's internal form of an idname)."""
+    if "_OT_" in name:
+        mod, op = name.split("_OT_", 1)
+        return f"{mod.lower()}.{op}"
+    return name
+
+
 class _Base:
     bl_options = {"REGISTER", "UNDO"}
 
@@ -71,18 +79,33 @@ class _Base:
         return p
 
     def finish(self, context, result: dict, level: str, text: str):
+        result = {"operator": operator_id(self.bl_idname), **result}
         context.scene.meshmark.last_result = json.dumps(result, default=_json_default)
         self.report({level}, text)
         return {"FINISHED"}
 
+    def error_method(self, context):
+        """The method an error message is about (to name its parameters as the panel does)."""
+        try:
+            return self.arg(context, "method") if "method" in self.properties.bl_rna.properties else None
+        except Exception:  # pragma: no cover
+            return None
+
+    def draw(self, context):
+        """The redo panel and the file browser's side panel: no second copy of the panel's fields
+        (the operator takes its values from the Meshmark panel)."""
+        self.layout.label(text="Settings: Meshmark panel", icon="INFO")
+
     def fail(self, context, exc):
         if isinstance(exc, _EXPECTED):
-            msg = str(exc)
+            msg = messages.friendly(str(exc), self.error_method(context))
         else:  # a bug: keep Blender alive, say so, and keep the traceback in the console
             traceback.print_exc()
             msg = f"internal error ({type(exc).__name__}: {exc}); the mesh was not changed"
         try:
-            context.scene.meshmark.last_result = json.dumps({"ok": False, "error": msg})
+            obj = getattr(context, "active_object", None)
+            context.scene.meshmark.last_result = json.dumps({"operator": operator_id(self.bl_idname), "ok": False, "error": msg,
+                                                             "object": obj.name if obj is not None else None})
         except Exception:  # pragma: no cover - e.g. a read-only context
             pass
         self.report({"ERROR"}, f"meshmark: {msg}")
@@ -153,6 +176,16 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
             context.window_manager.fileselect_add(self)
             return {"RUNNING_MODAL"}
         return self.execute(context)
+
+    def draw(self, context):
+        """The file browser's side panel: what will be marked, not a second set of empty fields."""
+        obj = context.active_object
+        col = self.layout.column()
+        col.label(text=obj.name if obj is not None else "No active object", icon="MESH_DATA")
+        col.label(text=_params.method_label(self.arg(context, "method")), icon="MOD_SMOOTH")
+        col.label(text=f"{len(self.arg(context, 'message').encode())}-byte message" if not self.bits
+                  else f"{len(self.bits)} bits", icon="FONT_DATA")
+        col.label(text="Key: " + ("set" if self.arg(context, "key") else "missing"), icon="KEY_HLT")
 
     def run(self, context):
         obj = bridge.active_mesh_object(context)
@@ -240,7 +273,7 @@ class MESHMARK_OT_verify(_Base, bpy.types.Operator):
             msg = (f"'{obj.name}' has {res.n_vertices} vertices{welded} but the keyfile was made for a mesh of "
                    f"{res.expected_vertices}, and its mark is not found (NC {res.nc:.3f}, CDR {res.cdr:.3f}): "
                    f"verify is run on a different mesh, or with the wrong keyfile")
-            result.update(ok=False, error=msg)
+            result.update(ok=False, error=msg, operator=operator_id(self.bl_idname))
             context.scene.meshmark.last_result = json.dumps(result, default=_json_default)
             self.report({"ERROR"}, f"meshmark: {msg}")
             return {"CANCELLED"}
@@ -402,6 +435,7 @@ class MESHMARK_OT_load_keyfile(_Base, bpy.types.Operator):
         kf = load_keyfile(path)  # validates before anything is set
         s = context.scene.meshmark
         s.keyfile, s.method, s.key, s.weld = path, kf.method, kf.key, kf.weld
+        s.param_mode = "CUSTOM"  # the keyfile's settings, shown under Advanced
         pl = Payload.from_bits(kf.payload["bits"])
         text = Payload(kf.payload["kind"], pl.data).message()
         if kf.payload["kind"] == "text":
