@@ -136,9 +136,9 @@ def _method_arg():
 
 
 def _weld_arg():
-    return BoolProperty(name="Weld", default=True, options={"SKIP_SAVE"},
-                        description="Merge vertices at exactly equal positions (UV seams, flat shading, "
-                                    "non-indexed glTF) before marking; every copy gets the same mark")
+    return BoolProperty(name="Weld split vertices", default=True, options={"SKIP_SAVE"},
+                        description="Treat vertices at exactly the same place (UV seams, flat shading, "
+                                    "glTF exports) as one, so the model never cracks open")
 
 
 def _add_method_params(cls):
@@ -156,7 +156,7 @@ def _check_text(message: str, kind="text"):
 
 # ---------------------------------------------------------------------------------------------
 class MESHMARK_OT_embed(_Base, bpy.types.Operator):
-    """Embed the message into the active mesh with the chosen method and key; write the keyfile"""
+    """Hide the message in the active mesh with the chosen method and key, and write the keyfile"""
     bl_idname = "meshmark.embed"
     bl_label = "Embed"
 
@@ -234,13 +234,14 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
 
 # ---------------------------------------------------------------------------------------------
 class MESHMARK_OT_verify(_Base, bpy.types.Operator):
-    """Extract the watermark of the keyfile from the active mesh (as deformed now, or its base mesh)"""
+    """Check whether the active mesh carries the keyfile's mark (as posed now, or its rest shape)"""
     bl_idname = "meshmark.verify"
     bl_label = "Verify"
 
     keyfile: StringProperty(name="Keyfile", options={"SKIP_SAVE"}, subtype="FILE_PATH")
-    evaluated: BoolProperty(name="Deformed", default=True, options={"SKIP_SAVE"},
-                            description="Verify the evaluated mesh (armature, shape keys, modifiers)")
+    evaluated: BoolProperty(name="Check as posed", default=True, options={"SKIP_SAVE"},
+                            description="Check the mesh as it looks now (armature, shape keys, modifiers) "
+                                        "rather than its rest shape")
     key: StringProperty(name="Key", options={"SKIP_SAVE"}, subtype="PASSWORD",
                         description="Use this key instead of the keyfile's (empty: the keyfile's)")
 
@@ -307,7 +308,7 @@ def capacity_signature(obj, method, params, weld=True):
 
 
 class MESHMARK_OT_capacity(_Base, bpy.types.Operator):
-    """How many carrier bits the active mesh offers to the method, and how long a message fits"""
+    """How much text the active mesh can hold with the chosen method and settings"""
     bl_idname = "meshmark.capacity"
     bl_label = "Capacity"
 
@@ -328,7 +329,7 @@ class MESHMARK_OT_capacity(_Base, bpy.types.Operator):
 
 # ---------------------------------------------------------------------------------------------
 class MESHMARK_OT_deformation_study(_Base, bpy.types.Operator):
-    """Verify the mark at every n-th frame of a range; write a CSV, a plot and a summary"""
+    """Check the mark on every n-th frame of the animation; write a table (CSV) and a plot"""
     bl_idname = "meshmark.deformation_study"
     bl_label = "Deformation study"
 
@@ -389,13 +390,16 @@ class MESHMARK_OT_deformation_study(_Base, bpy.types.Operator):
 
 # ---------------------------------------------------------------------------------------------
 class MESHMARK_OT_save_keyfile(_Base, bpy.types.Operator):
-    """Save the keyfile of the last Embed of this session where you choose"""
+    """Save a copy of the keyfile of the last Embed where you choose"""
     bl_idname = "meshmark.save_keyfile"
     bl_label = "Save keyfile"
     bl_options = {"REGISTER"}
 
     filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
     filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+
+    def draw(self, context):  # the file browser: nothing to set beside the file name
+        pass
 
     def invoke(self, context, event):
         self.filepath = "keyfile.json"
@@ -418,13 +422,16 @@ class MESHMARK_OT_save_keyfile(_Base, bpy.types.Operator):
 
 
 class MESHMARK_OT_load_keyfile(_Base, bpy.types.Operator):
-    """Load a keyfile: Verify and the deformation study will use it; the panel shows its settings"""
+    """Open a keyfile: Verify and the study use it, and the panel shows its settings"""
     bl_idname = "meshmark.load_keyfile"
     bl_label = "Load keyfile"
     bl_options = {"REGISTER"}
 
     filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
     filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+
+    def draw(self, context):  # the file browser: nothing to set beside the file name
+        pass
 
     def invoke(self, context, event):
         context.window_manager.fileselect_add(self)
