@@ -173,3 +173,50 @@ def test_register_unregister_register(addon):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     assert bpy.context.scene.meshmark.method == "laplacian"
     assert bpy.ops.meshmark.embed.get_rna_type().properties["K"].default == 0
+
+
+def test_every_result_and_capacity_text_fits(addon, tmp_path, monkeypatch):
+    """The result lines of embed, verify, an error and the study, and the capacity line of a mesh
+    too large to count on the fly, at the default sidebar width."""
+    from meshmark_blender import panels
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
+    monkeypatch.setattr(panels, "AUTO_CAPACITY_MAX_VERTICES", 1000)
+    d = _draw(bpy.context)
+    assert "Capacity not counted" in _texts(d, "label")  # beside the refresh button
+    _no_truncation(d)
+    bpy.ops.meshmark.embed(message="E", key="k", keyfile=str(tmp_path / "k.json"))
+    d = _draw(bpy.context)
+    assert {"Marked", "44 bits in the mesh", "Capacity not counted"} <= set(_texts(d, "label"))
+    _no_truncation(d)
+    with pytest.raises(RuntimeError):
+        bpy.ops.meshmark.embed(message="a much longer text", key="k", keyfile=str(tmp_path / "k.json"))
+    d = _draw(bpy.context)
+    err = last_result()["error"]
+    labels = _texts(d, "label")
+    first = next(i for i, t in enumerate(labels) if t.startswith("message too long"))
+    box = labels[first:first + len(err)]
+    assert err.startswith("message too long for this mesh") and " ".join(box).startswith(err) and len(box) > 3
+    _no_truncation(d)
+    bpy.ops.meshmark.deformation_study(frame_start=1, frame_end=2, output_dir=str(tmp_path))
+    d = _draw(bpy.context)
+    assert {"Found on 2/2 frames", "Message on 2 frames", "Bits matching 100%"} <= set(_texts(d, "label"))
+    _no_truncation(d)
+
+
+def test_friendly_errors():
+    from meshmark_blender.messages import friendly
+    assert friendly("the Laplacian lengths span an empty range (all equal?): cannot form bins").startswith(
+        "mesh too small to carry a mark")
+    assert friendly("the laplacian mark does not take on this mesh: 3 of 40 carrier bits still read wrong after 4 "
+                    "rounds (K=286, n_thr=46); nothing was changed. Try other parameters.") == (
+        "the mark does not hold on this mesh (3 of 40 bits would read back wrong with Bins 286, Min. pair size 46); "
+        "nothing was changed. Try other settings under Advanced")
+    assert friendly("the message is 40 bytes (320 bits); at most 31 bytes fit a frame") == \
+        "message too long: 40 bytes, at most 31 bytes fit in a mark"
+    assert friendly("n_robust must be >= 1, got 0", "laplacian") == "Subtlety must be >= 1, got 0"
+    assert friendly("alpha must be in (0, 0.5) for the cho-mean method, got 0.7") == \
+        "Strength must be in (0, 0.5) for the cho-mean method, got 0.7"
+    # names inside paths and words are left alone
+    assert friendly("cannot read keyfile '/tmp/K=1/n_thr.json': No such file") == \
+        "cannot read keyfile '/tmp/K=1/n_thr.json': No such file"

@@ -156,7 +156,7 @@ def capacity_of_active(obj, settings):
         hit = operators.CAPACITY_CACHE.get(obj.name)
         if hit is None or hit[0] != sig:
             if len(obj.data.vertices) > AUTO_CAPACITY_MAX_VERTICES or obj.mode == "EDIT":
-                return None, "Capacity: press refresh"
+                return None, "Capacity not counted"
             hit = (sig, operators.capacity_of(obj, method, p, settings.weld))
             operators.CAPACITY_CACHE[obj.name] = hit
         return hit[1], ""
