@@ -104,8 +104,9 @@ class _Base:
             msg = f"internal error ({type(exc).__name__}: {exc}); the mesh was not changed"
         try:
             obj = getattr(context, "active_object", None)
-            context.scene.meshmark.last_result = json.dumps({"operator": operator_id(self.bl_idname), "ok": False, "error": msg,
-                                                             "object": obj.name if obj is not None else None})
+            context.scene.meshmark.last_result = json.dumps({
+                "operator": operator_id(self.bl_idname), "ok": False, "error": msg,
+                "object": obj.name if obj is not None else None})
         except Exception:  # pragma: no cover - e.g. a read-only context
             pass
         self.report({"ERROR"}, f"meshmark: {msg}")

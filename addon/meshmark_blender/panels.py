@@ -108,7 +108,8 @@ def tied_result(context, operators_: tuple) -> dict | None:
     except ValueError:
         return None
     obj = context.active_object
-    if operators.operator_id(d.get("operator", "")) not in operators_ or d.get("object") != (obj.name if obj is not None else None):
+    active = obj.name if obj is not None else None
+    if operators.operator_id(d.get("operator", "")) not in operators_ or d.get("object") != active:
         return None  # another object's (or another task's) result: stale here
     return d
 
