@@ -61,26 +61,77 @@ def _check_mesh(mesh) -> Mesh:
     return m
 
 
-def level_function(tolerance: float = 1.0, adaptive: bool = True, levels=None, bound: str = "appr"):
-    """mesh -> levels i (int, or (n,) ints): the §4.3.1 levels from ``meshmark.analysis``, or the
-    explicit ``levels`` (an int used for every vertex, or a callable ``mesh -> int | (n,) array``)."""
+ADAPTIVE = ("triangle", "curvature", "global")
+
+
+def _adaptive_mode(adaptive) -> str:
+    if adaptive is True:
+        return "triangle"
+    if adaptive is False:
+        return "global"
+    if adaptive not in ADAPTIVE:
+        raise MeshError(f"adaptive must be True, False or one of {', '.join(ADAPTIVE)}, got {adaptive!r}")
+    return adaptive
+
+
+def level_function(tolerance: float = 1.0, adaptive=True, levels=None, bound: str = "appr"):
+    """mesh -> levels i (int, or (n,) ints) of §4.3.1, from ``meshmark.analysis``:
+
+    * ``adaptive=True`` / ``"triangle"``: eq. 4.3.25 with eps_j = tolerance for every triangle, a vertex
+      taking the largest level of its triangles (how Table 4.4 and Fig. 4.8 were made);
+    * ``"curvature"``: eq. 4.3.24's curvature-dependent eps_j (Fig. 4.7's alpha, mu, sigma; tolerance
+      is eps_0, so curved regions get up to alpha = 45.7 deg more);
+    * ``False`` / ``"global"``: one level for the mesh (eq. 4.3.21, ``bound``).
+
+    ``levels`` overrides: an int used for every vertex, or a callable ``mesh -> int | (n,) array``.
+    """
     if levels is not None:
         if callable(levels):
             return levels
         if np.ndim(levels) == 0 and float(levels) == int(levels):
             lv = int(levels)
+            if not 0 <= lv <= 32:
+                raise MeshError(f"levels must lie in 0..32, got {lv}")
             return lambda mesh: lv
         raise MeshError("levels must be an int or a callable mesh -> int | (n,) array "
                         "(a fixed (n,) array cannot be recomputed on the marked mesh)")
     tol = _check_tolerance(tolerance)
-    try:
-        from .. import analysis
-    except ImportError:  # pragma: no cover - only before the analysis module lands
-        raise MeshError("meshmark.analysis (quantization levels from a tolerance) is not available; "
-                        "pass an explicit levels=") from None
-    if adaptive:
+    mode = _adaptive_mode(adaptive)
+    from .. import analysis
+    if mode == "triangle":
+        return lambda mesh: analysis.adaptive_levels(mesh, tolerance=tol, alpha=0.0)
+    if mode == "curvature":
         return lambda mesh: analysis.adaptive_levels(mesh, tolerance=tol)
     return lambda mesh: analysis.quantization_level(mesh, tolerance=tol, bound=bound)
+
+
+def _levels_array(mesh: Mesh, i) -> np.ndarray:
+    """(n,) int64 levels; vertices no face uses keep every bit (level 32): they carry only the LSB
+    (moving them within a coarse cell would change the bounding box, and so everybody's levels)."""
+    n = mesh.n_vertices
+    i = np.asarray(i)
+    if i.ndim == 0:
+        i = np.full(n, int(i), dtype=np.int64)
+    if i.shape != (n,):
+        raise MeshError(f"levels must be an int or one per vertex ({n}), got shape {i.shape}")
+    i = i.astype(np.int64)
+    used = mesh.cached("stego_referenced", lambda: _referenced(mesh))
+    if not used.all():
+        i = np.where(used, i, 32)
+    return i
+
+
+def _referenced(mesh: Mesh) -> np.ndarray:
+    used = np.zeros(mesh.n_vertices, dtype=bool)
+    used[mesh.face_indices] = True
+    return used
+
+
+def _thesis_bpv(mesh: Mesh, i) -> float:
+    """3 mean(32 - i - c), c = 1, over the vertices faces use: the thesis' count in its 32-bit
+    bounding-cube words (Table 4.4), for comparison with the capacity of the chosen precision."""
+    used = mesh.cached("stego_referenced", lambda: _referenced(mesh))
+    return float(3 * np.mean(np.maximum(0, 31 - np.asarray(i)[used])))
 
 
 def _cell_exponents(mesh: Mesh, i, precision: str, fr) -> np.ndarray:
@@ -90,11 +141,7 @@ def _cell_exponents(mesh: Mesh, i, precision: str, fr) -> np.ndarray:
     if not L > 0:
         raise MeshError("degenerate mesh: all vertices coincide")
     fl = math.frexp(L)[1] - 1  # floor(log2 L)
-    i = np.asarray(i)
-    if i.ndim == 0:
-        i = np.full(V.shape[0], int(i))
-    if i.shape != (V.shape[0],):
-        raise MeshError(f"levels must be an int or one per vertex ({V.shape[0]}), got shape {i.shape}")
+    i = _levels_array(mesh, i)
     lo, hi = _core.stego_t_range(precision, fr[0])
     return np.clip(fl - i.astype(np.int64), lo, hi).astype(np.int32)
 
@@ -136,7 +183,7 @@ class EmbedResult:
     max_message_bytes: int        # longest message that fits (capacity minus the crypto frame)
     message_bytes: int
     bits_per_vertex: float        # capacity_bits / n (Table 4.4's "capacity in bits per vertex")
-    thesis_bits_per_vertex: float  # 3 mean(32 - i - 1): the thesis' 32-bit bounding-cube count
+    thesis_bits_per_vertex: float  # 3 mean(32 - i - 1) over used vertices: the thesis' 32-bit bounding-cube count
     e_nonzero_ratio: float        # Table 4.4's "non-zero components of e / vertices"
     e_stream_bytes: int           # compressed e (with its 4-byte length) in the LSBs
     lsb_slots: int
@@ -152,7 +199,7 @@ class ExtractResult:
     reason: str = ""
 
 
-def capacity(mesh, tolerance: float = 1.0, adaptive: bool = True, precision: str = "fixed32", levels=None) -> dict:
+def capacity(mesh, tolerance: float = 1.0, adaptive=True, precision: str = "fixed32", levels=None) -> dict:
     """Capacity of ``mesh`` for one precision: bits, bits per vertex, longest message in bytes."""
     m = _check_mesh(mesh)
     precision = _check_precision(precision)
@@ -161,13 +208,13 @@ def capacity(mesh, tolerance: float = 1.0, adaptive: bool = True, precision: str
     fr = (int(E), o)
     C = _core.stego_snap(m.V, precision, *fr)
     cm = m.with_vertices(C)
-    i = np.broadcast_to(np.asarray(level_fn(cm)), (m.n_vertices,))
+    i = _levels_array(cm, level_fn(cm))
     t = _cell_exponents(cm, i, precision, fr)
     lay = _layout(C, t, precision, fr)
     n = m.n_vertices
     return {"precision": precision, "capacity_bits": lay.capacity, "bits_per_vertex": lay.capacity / n,
             "max_message_bytes": max(0, lay.capacity // 8 - crypto.OVERHEAD),
-            "thesis_bits_per_vertex": float(3 * np.mean(31 - i)), "n_vertices": n,
+            "thesis_bits_per_vertex": _thesis_bpv(cm, i), "n_vertices": n,
             "level_min": int(np.min(i)), "level_max": int(np.max(i))}
 
 
@@ -223,12 +270,12 @@ def _extract_frame_bits(V, mesh, level_fn, precision, fr, nbits_or_key):
     return msg, "", lay
 
 
-def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive: bool = True,
+def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
           precision: str = "fixed32", levels=None) -> EmbedResult:
     """Hide ``message`` (bytes; str is UTF-8 encoded) in ``mesh`` under ``key`` (§4.3.2).
 
-    ``tolerance``: mean normal degradation budget in degrees; ``adaptive``: per-vertex levels
-    (``analysis.adaptive_levels``) or one global level (``analysis.quantization_level``);
+    ``tolerance``: mean normal degradation budget in degrees; ``adaptive``: see
+    :func:`level_function` (default: per-triangle levels, Table 4.4);
     ``precision``: the storage the marked vertices must survive (fixed32, float32, float64);
     ``levels``: override the levels (an int, or a callable mesh -> int | (n,) array).
     Returns an :class:`EmbedResult`; its ``V`` must be stored exactly (see ``docs/stego.md``).
@@ -247,7 +294,7 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive: bool = Tr
     fr = (int(E), o)
     C = _core.stego_snap(m.V, precision, *fr)
     cm = m.with_vertices(C)
-    i = np.broadcast_to(np.asarray(level_fn(cm)), (n,)).astype(np.int64)
+    i = _levels_array(cm, level_fn(cm))
     t = _cell_exponents(cm, i, precision, fr)
     lay = _layout(C, t, precision, fr)
     need = 8 * (len(message) + crypto.OVERHEAD)
@@ -276,17 +323,22 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive: bool = Tr
             raise MeshError(f"the compressed corrective vector ({8 * len(lsb)} bits) does not fit the "
                             f"{slots} LSB slots")
         V2 = _core.stego_write_lsb(V1, precision, *fr, order2, first2, lsb, 8 * len(lsb))
-        # Verify: the extractor's path on the result (E, t, pi_1 and the frame bits).
+        # Verify what the extractor relies on: the same frame, e read back from the LSBs in pi_2 order
+        # (pi_2 and t' do not depend on the LSBs, and pi_1 is a function of t and the quantized
+        # vertices, which the message bits do not touch), and the frame bits read back in pi_1 order.
         E2, o2 = _core.stego_frame(V2, precision)
         if int(E2) != fr[0] or not np.array_equal(o2, fr[1]):
             continue
-        got, _, _ = _extract_frame_bits(V2, m, level_fn, precision, fr, 8 * len(frame))
+        back = _core.stego_read_lsb(V2, precision, *fr, order2, first2, 8 * len(lsb))
+        if back != lsb:
+            continue
+        got = _core.stego_read_bits(V2, t, precision, *fr, lay.order, lay.first, 8 * len(frame))
         if got != frame:
             continue
         return EmbedResult(V=V2, precision=precision, n_vertices=n, capacity_bits=lay.capacity,
                            max_message_bytes=max(0, lay.capacity // 8 - crypto.OVERHEAD),
                            message_bytes=len(message), bits_per_vertex=lay.capacity / n,
-                           thesis_bits_per_vertex=float(3 * np.mean(31 - i)),
+                           thesis_bits_per_vertex=_thesis_bpv(cm, i),
                            e_nonzero_ratio=float(np.count_nonzero(t != t2)) / n,
                            e_stream_bytes=len(lsb), lsb_slots=slots, levels=np.asarray(i), t=t,
                            attempts=attempt)
@@ -294,7 +346,7 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive: bool = Tr
                     "try another tolerance or precision")
 
 
-def extract(mesh, key, tolerance: float = 1.0, adaptive: bool = True, precision: str = "fixed32",
+def extract(mesh, key, tolerance: float = 1.0, adaptive=True, precision: str = "fixed32",
             levels=None) -> ExtractResult:
     """The message hidden by :func:`embed` with the same key, tolerance, adaptive flag and precision,
     or ``found=False`` (wrong key, damaged or clean mesh: never garbage)."""
