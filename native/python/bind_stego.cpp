@@ -75,14 +75,15 @@ void bind_stego(py::module_& m) {
           py::gil_scoped_release r;
           return stego_clear_lsb(C, pr, StegoFrame{E, o});
         }, py::arg("C"), py::arg("precision"), py::arg("E"), py::arg("o"));
-  m.def("stego_order", [](VRef Q, IRef t, int E, const V3& o) {
+  m.def("stego_order", [](VRef Q, IRef t, int E, const V3& o, VectorXi indices, VectorXo offsets) {
+          const Polygons P = make_polygons(std::move(indices), std::move(offsets));
           StegoOrder so;
           {
             py::gil_scoped_release r;
-            so = stego_order(Q, t, E, o);
+            so = stego_order(Q, t, E, o, P);
           }
           return py::make_tuple(std::move(so.order), std::move(so.first), so.axis, so.centroid);
-        }, py::arg("Q"), py::arg("t"), py::arg("E"), py::arg("o"));
+        }, py::arg("Q"), py::arg("t"), py::arg("E"), py::arg("o"), py::arg("indices"), py::arg("offsets"));
   m.def("stego_capacity", [](VRef C, IRef t, const std::string& p, int E, const V3& o, IRef order, BRef first) {
           return stego_capacity(C, t, precision(p), StegoFrame{E, o}, order, first);
         }, py::arg("C"), py::arg("t"), py::arg("precision"), py::arg("E"), py::arg("o"), py::arg("order"),

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <string>
+#include <vector>
 
 namespace meshmark {
 
@@ -22,10 +24,16 @@ inline std::uint64_t bits_of(double x) {
 // Per-vertex value -> fixed point integer (deterministic, the same for every vertex order).
 inline std::int64_t fix(double x, int scale) { return std::llround(std::ldexp(x, scale)); }
 inline long double unfix(i128 s, int scale) { return std::ldexp(static_cast<long double>(s), -scale); }
+inline std::uint64_t mix(std::uint64_t x) {  // splitmix64 finalizer
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
 }  // namespace
 
 StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<const VectorXi>& t, int E,
-                       const Eigen::Vector3d& o) {
+                       const Eigen::Vector3d& o, const Polygons& P) {
   // Relative to the frame origin (exact: Q - o is on the same grid and smaller than 2^E).
   MatrixX3dR Q = Q0.rowwise() - o.transpose();
   const Eigen::Index n = Q.rows();
@@ -79,6 +87,23 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
     q = -q;
     for (double& p : proj) p = -p;  // exact: x . (-q) == -(x . q) in IEEE arithmetic
   }
+  // Neighbourhood hash (order-free: wrapping sums).
+  std::vector<std::uint64_t> h(static_cast<std::size_t>(n)), nb(static_cast<std::size_t>(n), 0);
+  for (Eigen::Index i = 0; i < n; ++i)
+    h[static_cast<std::size_t>(i)] =
+        mix(mix(mix(mix(bits_of(Q0(i, 0))) ^ bits_of(Q0(i, 1))) ^ bits_of(Q0(i, 2))) ^ static_cast<std::uint64_t>(t[i]));
+  for (Offset f = 0; f < P.n_faces(); ++f) {
+    std::uint64_t sum = 0;
+    for (Offset c = P.offsets[f]; c < P.offsets[f + 1]; ++c) {
+      const Index v = P.indices[c];
+      if (v < 0 || v >= n) throw MeshError("face " + std::to_string(f) + " has a vertex out of range");
+      sum += h[static_cast<std::size_t>(v)];
+    }
+    for (Offset c = P.offsets[f]; c < P.offsets[f + 1]; ++c) {
+      const auto v = static_cast<std::size_t>(P.indices[c]);
+      nb[v] += sum - h[v];
+    }
+  }
   StegoOrder out;
   out.axis = q;
   out.centroid = mu + o;
@@ -92,7 +117,8 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
       const std::uint64_t xa = bits_of(Q(a, c)), xb = bits_of(Q(b, c));
       if (xa != xb) return xa < xb;
     }
-    return t[a] < t[b];
+    if (t[a] != t[b]) return t[a] < t[b];
+    return nb[static_cast<std::size_t>(a)] < nb[static_cast<std::size_t>(b)];
   };
   std::sort(idx.begin(), idx.end(), key_less);
   out.order.resize(n);

@@ -17,10 +17,12 @@ struct StegoOrder {
 // exact integer sums (__int128) of per-vertex fixed-point values (the coordinates on the grid 2^(E-40),
 // the products and cubes on grids scaled to 2^60), so they do not depend on the summation order. The
 // axis sign follows meshmark::pca_axis_sign (positive third moment of the projections; then the far
-// side; then the largest component positive). Sort key: (projection, bit patterns of x, y, z, t); two
-// vertices with the same (x, y, z, t) are a tie group (they are indistinguishable to the extractor,
-// so they carry the same bits).
+// side; then the largest component positive). Sort key: (projection, bit patterns of x, y, z, t,
+// neighbourhood hash); the hash is the wrapping sum, over the faces P around the vertex and their other
+// corners, of a 64-bit mix of the corner's (x, y, z, t): it separates distinct vertices that quantize
+// into the same cell, and it does not depend on the vertex or face order. Vertices with equal keys are
+// a tie group (indistinguishable to the extractor: they carry the same bits).
 StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q, const Eigen::Ref<const VectorXi>& t, int E,
-                       const Eigen::Vector3d& o);
+                       const Eigen::Vector3d& o, const Polygons& P);
 
 }  // namespace meshmark

@@ -156,9 +156,9 @@ class _Layout:
     capacity: int
 
 
-def _layout(C: np.ndarray, t: np.ndarray, precision: str, fr) -> _Layout:
+def _layout(C: np.ndarray, t: np.ndarray, precision: str, fr, mesh: Mesh) -> _Layout:
     Q = _core.stego_quantize(C, t, precision, *fr)
-    order, first, _, _ = _core.stego_order(Q, t, *fr)
+    order, first, _, _ = _core.stego_order(Q, t, *fr, mesh.face_indices, mesh.face_offsets)
     cap = int(_core.stego_capacity(C, t, precision, *fr, order, first))
     return _Layout(C, fr, t, order, first, cap)
 
@@ -167,10 +167,11 @@ def _marked_order(Vm: np.ndarray, mesh: Mesh, level_fn, precision: str, fr):
     """(t', pi_2 order, first) of a marked carrier (its LSBs are ignored)."""
     Z = _core.stego_clear_lsb(Vm, precision, *fr)
     zmesh = mesh.with_vertices(Z)
-    t2 = _cell_exponents(zmesh, level_fn(zmesh), precision, fr)
+    i2 = _levels_array(zmesh, level_fn(zmesh))
+    t2 = _cell_exponents(zmesh, i2, precision, fr)
     Q2 = _core.stego_quantize(Z, t2, precision, *fr)
-    order2, first2, _, _ = _core.stego_order(Q2, t2, *fr)
-    return t2, order2, first2
+    order2, first2, _, _ = _core.stego_order(Q2, t2, *fr, mesh.face_indices, mesh.face_offsets)
+    return t2, order2, first2, i2
 
 
 @dataclass
@@ -184,7 +185,8 @@ class EmbedResult:
     message_bytes: int
     bits_per_vertex: float        # capacity_bits / n (Table 4.4's "capacity in bits per vertex")
     thesis_bits_per_vertex: float  # 3 mean(32 - i - 1) over used vertices: the thesis' 32-bit bounding-cube count
-    e_nonzero_ratio: float        # Table 4.4's "non-zero components of e / vertices"
+    e_nonzero_ratio: float        # Table 4.4's "non-zero components of e / vertices", e = i - i' (levels)
+    t_nonzero_ratio: float        # the same for what is stored, t - t' (cell exponents: i and floor(log2 L))
     e_stream_bytes: int           # compressed e (with its 4-byte length) in the LSBs
     lsb_slots: int
     levels: np.ndarray = field(repr=False)  # i per vertex (original mesh)
@@ -210,7 +212,7 @@ def capacity(mesh, tolerance: float = 1.0, adaptive=True, precision: str = "fixe
     cm = m.with_vertices(C)
     i = _levels_array(cm, level_fn(cm))
     t = _cell_exponents(cm, i, precision, fr)
-    lay = _layout(C, t, precision, fr)
+    lay = _layout(C, t, precision, fr, m)
     n = m.n_vertices
     return {"precision": precision, "capacity_bits": lay.capacity, "bits_per_vertex": lay.capacity / n,
             "max_message_bytes": max(0, lay.capacity // 8 - crypto.OVERHEAD),
@@ -220,7 +222,7 @@ def capacity(mesh, tolerance: float = 1.0, adaptive=True, precision: str = "fixe
 
 def _read_e(Vm, mesh, level_fn, precision, fr):
     """Recover t (eq. 4.3.27) from a marked carrier, or (None, reason)."""
-    t2, order2, first2 = _marked_order(Vm, mesh, level_fn, precision, fr)
+    t2, order2, first2, _ = _marked_order(Vm, mesh, level_fn, precision, fr)
     slots = int(_core.stego_lsb_capacity(Vm, precision, *fr, order2, first2))
     if slots < 32:
         return None, "too few LSB slots"
@@ -248,7 +250,7 @@ def _extract_frame_bits(V, mesh, level_fn, precision, fr, nbits_or_key):
     t, reason = _read_e(V, mesh, level_fn, precision, fr)
     if t is None:
         return None, reason, None
-    lay = _layout(V, t, precision, fr)
+    lay = _layout(V, t, precision, fr, mesh)
     if isinstance(nbits_or_key, int):
         return _core.stego_read_bits(V, t, precision, *fr, lay.order, lay.first, nbits_or_key), "", lay
     key = nbits_or_key
@@ -296,7 +298,7 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
     cm = m.with_vertices(C)
     i = _levels_array(cm, level_fn(cm))
     t = _cell_exponents(cm, i, precision, fr)
-    lay = _layout(C, t, precision, fr)
+    lay = _layout(C, t, precision, fr, m)
     need = 8 * (len(message) + crypto.OVERHEAD)
     if need > lay.capacity:
         raise MeshError(f"message of {len(message)} bytes needs {need} bits with its {crypto.OVERHEAD}-byte "
@@ -310,7 +312,7 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
         frame = crypto.seal(bytes(message), dkey, salt)
         stream = frame + os.urandom(nbytes - len(frame))
         V1 = _core.stego_write_bits(C, t, precision, *fr, lay.order, lay.first, stream, lay.capacity)
-        t2, order2, first2 = _marked_order(V1, m, level_fn, precision, fr)
+        t2, order2, first2, i2 = _marked_order(V1, m, level_fn, precision, fr)
         e_sorted = (t - t2)[order2].astype(np.int64)
         groups = np.cumsum(first2, dtype=np.int64) - 1
         lead = e_sorted[first2.astype(bool)]
@@ -339,7 +341,8 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
                            max_message_bytes=max(0, lay.capacity // 8 - crypto.OVERHEAD),
                            message_bytes=len(message), bits_per_vertex=lay.capacity / n,
                            thesis_bits_per_vertex=_thesis_bpv(cm, i),
-                           e_nonzero_ratio=float(np.count_nonzero(t != t2)) / n,
+                           e_nonzero_ratio=float(np.count_nonzero(i != i2)) / n,
+                           t_nonzero_ratio=float(np.count_nonzero(t != t2)) / n,
                            e_stream_bytes=len(lsb), lsb_slots=slots, levels=np.asarray(i), t=t,
                            attempts=attempt)
     raise MeshError(f"embedding did not round-trip in {_MAX_ATTEMPTS} attempts (marked vertices collide); "
