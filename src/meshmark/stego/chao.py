@@ -57,6 +57,10 @@ def embed(mesh, bits=None, *, message=None, n_layers: int = 10, n_intervals: int
     ``fill=True`` pads with random bits (``seed``) to the full capacity (steganalysis at full load).
     """
     V = _vertices(mesh)
+    if not 1 <= int(n_layers) <= 30:
+        raise MeshError(f"n_layers must be 1..30, got {n_layers}")
+    if int(n_intervals) < 2:
+        raise MeshError(f"n_intervals must be >= 2, got {n_intervals}")
     if (bits is None) == (message is None):
         raise MeshError("give exactly one of bits or message")
     b = _bits_of(message) if message is not None else np.asarray(bits)
