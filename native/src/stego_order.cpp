@@ -107,25 +107,32 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
   StegoOrder out;
   out.axis = q;
   out.centroid = mu + o;
-  std::vector<Index> idx(static_cast<std::size_t>(n));
-  std::iota(idx.begin(), idx.end(), Index{0});
-  auto key_less = [&](Index a, Index b) {
-    const double pa = proj[static_cast<std::size_t>(a)], pb = proj[static_cast<std::size_t>(b)];
-    if (pa < pb) return true;
-    if (pb < pa) return false;
-    for (int c = 0; c < 3; ++c) {
-      const std::uint64_t xa = bits_of(Q(a, c)), xb = bits_of(Q(b, c));
-      if (xa != xb) return xa < xb;
-    }
-    if (t[a] != t[b]) return t[a] < t[b];
-    return nb[static_cast<std::size_t>(a)] < nb[static_cast<std::size_t>(b)];
+  // Sort contiguous keys (cache friendly): projection, coordinate bit patterns, t, neighbourhood hash.
+  struct Key {
+    double p;
+    std::uint64_t x, y, z, nb;
+    Index t, i;
   };
-  std::sort(idx.begin(), idx.end(), key_less);
+  std::vector<Key> keys(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i)
+    keys[static_cast<std::size_t>(i)] = {proj[static_cast<std::size_t>(i)], bits_of(Q0(i, 0)), bits_of(Q0(i, 1)),
+                                         bits_of(Q0(i, 2)), nb[static_cast<std::size_t>(i)], t[i], static_cast<Index>(i)};
+  auto key_less = [](const Key& a, const Key& b) {
+    if (a.p < b.p) return true;
+    if (b.p < a.p) return false;
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    if (a.z != b.z) return a.z < b.z;
+    if (a.t != b.t) return a.t < b.t;
+    return a.nb < b.nb;
+  };
+  std::sort(keys.begin(), keys.end(), key_less);
   out.order.resize(n);
   out.first.resize(n);
   for (Eigen::Index k = 0; k < n; ++k) {
-    out.order[k] = idx[static_cast<std::size_t>(k)];
-    out.first[k] = (k == 0 || key_less(idx[static_cast<std::size_t>(k - 1)], idx[static_cast<std::size_t>(k)])) ? 1 : 0;
+    const auto kk = static_cast<std::size_t>(k);
+    out.order[k] = keys[kk].i;
+    out.first[k] = (k == 0 || key_less(keys[kk - 1], keys[kk])) ? 1 : 0;
   }
   return out;
 }
