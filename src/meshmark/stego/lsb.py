@@ -115,22 +115,27 @@ def _levels_array(mesh: Mesh, i) -> np.ndarray:
     if i.shape != (n,):
         raise MeshError(f"levels must be an int or one per vertex ({n}), got shape {i.shape}")
     i = i.astype(np.int64)
-    used = mesh.cached("stego_referenced", lambda: _referenced(mesh))
+    used = _referenced(mesh)
     if not used.all():
         i = np.where(used, i, 32)
     return i
 
 
 def _referenced(mesh: Mesh) -> np.ndarray:
-    used = np.zeros(mesh.n_vertices, dtype=bool)
-    used[mesh.face_indices] = True
+    """Vertices some face uses (cached with the face set, which with_vertices shares)."""
+    topo = mesh._topology
+    used = topo.get("stego_referenced")
+    if used is None or used.shape[0] != mesh.n_vertices:
+        used = np.zeros(mesh.n_vertices, dtype=bool)
+        used[mesh.face_indices] = True
+        topo["stego_referenced"] = used
     return used
 
 
 def _thesis_bpv(mesh: Mesh, i) -> float:
     """3 mean(32 - i - c), c = 1, over the vertices faces use: the thesis' count in its 32-bit
     bounding-cube words (Table 4.4), for comparison with the capacity of the chosen precision."""
-    used = mesh.cached("stego_referenced", lambda: _referenced(mesh))
+    used = _referenced(mesh)
     return float(3 * np.mean(np.maximum(0, 31 - np.asarray(i)[used])))
 
 
