@@ -41,39 +41,41 @@ def child(adaptive, precision):
     payload = os.urandom(1 << 20)  # 1 MiB
     ad = {"triangle": True, "global": False}[adaptive]
     level_fn = lsb.level_function(1.0, ad)
-    t = time.perf_counter()
+    t = time.process_time()
     level_fn(m)
-    t_level = time.perf_counter() - t
-    t = time.perf_counter()
+    t_level = time.process_time() - t  # CPU seconds (the machine is shared)
+    t = time.process_time()
     crypto.derive(b"k", b"0" * 16)
-    t_kdf = time.perf_counter() - t
-    te, tx = [], []
+    t_kdf = time.process_time() - t
+    te, tx, ce, cx = [], [], [], []
     for _ in range(2):
         mm = meshmark.Mesh.from_polygons(m.V.copy(), m.face_indices.copy(), m.face_offsets.copy())
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         r = stego.embed(mm, payload, "bench key", tolerance=1.0, adaptive=ad, precision=precision)
         te.append(time.perf_counter() - t)
+        ce.append(time.process_time() - c)
         marked = meshmark.Mesh.from_polygons(r.V.copy(), m.face_indices.copy(), m.face_offsets.copy())
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         x = stego.extract(marked, "bench key", tolerance=1.0, adaptive=ad, precision=precision)
         tx.append(time.perf_counter() - t)
+        cx.append(time.process_time() - c)
         assert x.found and x.message == payload
     # in-process reference: the pi ordering, native vs numpy
     E, o = _core.stego_frame(m.V, precision)
     C = _core.stego_snap(m.V, precision, E, o)
     tt = r.t
     Q = _core.stego_quantize(C, tt, precision, E, o)
-    t = time.perf_counter()
+    t = time.process_time()
     _core.stego_order(Q, tt, E, o, m.face_indices, m.face_offsets)
-    t_native = time.perf_counter() - t
-    t = time.perf_counter()
+    t_native = time.process_time() - t
+    t = time.process_time()
     c = Q.mean(0)
     w, U = np.linalg.eigh(np.cov((Q - c).T))
     p = (Q - c) @ U[:, -1]
     np.lexsort((tt, Q[:, 2], Q[:, 1], Q[:, 0], p))
-    t_numpy = time.perf_counter() - t
+    t_numpy = time.process_time() - t
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(json.dumps({"n": m.n_vertices, "faces": m.n_faces, "embed": min(te), "extract": min(tx),
+    print(json.dumps({"n": m.n_vertices, "faces": m.n_faces, "embed": min(te), "extract": min(tx), "embed_cpu": min(ce), "extract_cpu": min(cx),
                       "level_call": t_level, "kdf": t_kdf, "order_native": t_native, "order_numpy": t_numpy,
                       "rss_mb": peak, "bpv": r.bits_per_vertex}))
 
@@ -96,9 +98,12 @@ def main():
     print(f"embed {d['embed']:.2f} s + extract {d['extract']:.2f} s = {total:.2f} s "
           f"(target <= 2 s: {'met' if total <= 2 else 'NOT met'}); peak RSS {d['rss_mb']:.0f} MB "
           f"(target <= 1024 MB: {'met' if d['rss_mb'] <= 1024 else 'NOT met'})")
+    cpu = d["embed_cpu"] + d["extract_cpu"]
+    print(f"CPU time (one thread; the wall time above depends on the load): embed {d['embed_cpu']:.2f} s + "
+          f"extract {d['extract_cpu']:.2f} s = {cpu:.2f} s (target <= 2 s: {'met' if cpu <= 2 else 'NOT met'})")
     lv = 3 * d["level_call"]
-    print(f"of which quantization levels (meshmark.analysis, 3 calls): {lv:.2f} s ({100 * lv / total:.0f} %), "
-          f"scrypt (2 derivations): {2 * d['kdf']:.2f} s; without them {total - lv - 2 * d['kdf']:.2f} s")
+    print(f"of which quantization levels (meshmark.analysis, 3 calls): {lv:.2f} CPU-s ({100 * lv / cpu:.0f} %), "
+          f"scrypt (2 derivations): {2 * d['kdf']:.2f} CPU-s; meshmark.stego's own work {cpu - lv - 2 * d['kdf']:.2f} CPU-s")
     print(f"pi ordering: native {d['order_native'] * 1e3:.0f} ms vs numpy (float PCA + lexsort, not "
           f"permutation-exact) {d['order_numpy'] * 1e3:.0f} ms: ratio {d['order_numpy'] / d['order_native']:.1f}x")
 
