@@ -60,6 +60,7 @@ void bind_stego(py::module_& m) {
           const StegoFrame f = stego_frame(V, precision(p));
           return py::make_tuple(f.E, f.o);
         }, py::arg("V"), py::arg("precision"));
+  m.def("stego_extent", [](VRef V) { return stego_extent(V); }, py::arg("V"));
   m.def("stego_snap", [](VRef V, const std::string& p, int E, const V3& o) {
           return stego_snap(V, precision(p), StegoFrame{E, o});
         }, py::arg("V"), py::arg("precision"), py::arg("E"), py::arg("o"));

@@ -158,6 +158,17 @@ StegoFrame stego_frame(const Eigen::Ref<const MatrixX3dR>& V, StegoPrecision p) 
   }
 }
 
+double stego_extent(const Eigen::Ref<const MatrixX3dR>& V) {
+  if (V.rows() == 0) return 0;
+  Eigen::Vector3d lo = V.row(0).transpose(), hi = lo;
+  for (Eigen::Index i = 1; i < V.rows(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], V(i, a));
+      hi[a] = std::max(hi[a], V(i, a));
+    }
+  return (hi - lo).maxCoeff();
+}
+
 MatrixX3dR stego_snap(const Eigen::Ref<const MatrixX3dR>& V, StegoPrecision p, const StegoFrame& fr) {
   MatrixX3dR out(V.rows(), 3);
   const int s = fr.E - 32;
@@ -224,11 +235,14 @@ std::int64_t stego_capacity(const Eigen::Ref<const MatrixX3dR>& C, const Eigen::
   check_t(C.rows(), t);
   check_order(C.rows(), order, first);
   const Codec cd(p, fr);
+  // Every vertex in index order (sequential), minus the rare tie-group members (first == 0).
   std::int64_t c = 0;
-  for (Eigen::Index k = 0; k < order.size(); ++k) {
-    if (!first[k]) continue;
-    const Index i = order[k];
+  for (Eigen::Index i = 0; i < C.rows(); ++i)
     for (int a = 0; a < 3; ++a) c += cd.free_bits(cd.get(C(i, a), a), t[i]);
+  for (Eigen::Index k = 0; k < order.size(); ++k) {
+    if (first[k]) continue;
+    const Index i = order[k];
+    for (int a = 0; a < 3; ++a) c -= cd.free_bits(cd.get(C(i, a), a), t[i]);
   }
   return c;
 }
@@ -287,9 +301,11 @@ std::int64_t stego_lsb_capacity(const Eigen::Ref<const MatrixX3dR>& C, StegoPrec
   check_order(C.rows(), order, first);
   const Codec cd(p, fr);
   std::int64_t c = 0;
+  for (Eigen::Index i = 0; i < C.rows(); ++i)
+    for (int a = 0; a < 3; ++a) c += cd.get(C(i, a), a).has ? 1 : 0;
   for (Eigen::Index k = 0; k < order.size(); ++k)
-    if (first[k])
-      for (int a = 0; a < 3; ++a) c += cd.get(C(order[k], a), a).has ? 1 : 0;
+    if (!first[k])
+      for (int a = 0; a < 3; ++a) c -= cd.get(C(order[k], a), a).has ? 1 : 0;
   return c;
 }
 

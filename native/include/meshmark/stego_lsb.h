@@ -32,6 +32,9 @@ struct StegoFrame {
 // or (Fixed32) a mesh more than 2^20 of its sizes away from the origin.
 StegoFrame stego_frame(const Eigen::Ref<const MatrixX3dR>& V, StegoPrecision p);
 
+// The largest bounding-box extent max_a (max V_a - min V_a) (L of t = floor(log2 L) - i).
+double stego_extent(const Eigen::Ref<const MatrixX3dR>& V);
+
 // V as the carrier words: Fixed32 o_a + floor((x - o_a) / 2^s) 2^s, Float32 the nearest float32, Float64 V.
 MatrixX3dR stego_snap(const Eigen::Ref<const MatrixX3dR>& V, StegoPrecision p, const StegoFrame& fr);
 

@@ -142,7 +142,7 @@ def _thesis_bpv(mesh: Mesh, i) -> float:
 def _cell_exponents(mesh: Mesh, i, precision: str, fr) -> np.ndarray:
     """t = floor(log2 L) - i, clamped to the precision's range (stego_lsb.h)."""
     V = mesh.V
-    L = float(np.max(V.max(axis=0) - V.min(axis=0)))
+    L = float(_core.stego_extent(V))
     if not L > 0:
         raise MeshError("degenerate mesh: all vertices coincide")
     fl = math.frexp(L)[1] - 1  # floor(log2 L)
