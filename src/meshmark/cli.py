@@ -378,5 +378,8 @@ def steganalysis_cho(inp, K_min, K_max, eps, eps2, thesis_exact, false_reject, a
     sys.exit(0 if d["marked"] else 1)
 
 
+from .steganalysis.cli import add_commands as _steganalysis_commands; _steganalysis_commands(steganalysis)  # noqa: E402,E702
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()
