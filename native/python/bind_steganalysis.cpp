@@ -1,6 +1,8 @@
 #include "bindings.h"
 
 #include "meshmark/feature_statistics.h"
+#include "meshmark/lfs76_features.h"
+#include "meshmark/nvt36_features.h"
 #include "meshmark/unit_cube_normalize.h"
 #include "meshmark/yang208_features.h"
 
@@ -17,6 +19,14 @@ void bind_steganalysis(py::module_& m) {
   m.def("yang208_features", [](VRef V, TRef T) {
           py::gil_scoped_release release;
           return yang208_features(V, T);
+        }, py::arg("V"), py::arg("T"));
+  m.def("lfs76_features", [](VRef V, TRef T, double dt, double t_max) {
+          py::gil_scoped_release release;
+          return lfs76_features(V, T, dt, t_max);
+        }, py::arg("V"), py::arg("T"), py::arg("dt") = 0.3, py::arg("t_max") = 3.0);
+  m.def("nvt36_features", [](VRef V, TRef T) {
+          py::gil_scoped_release release;
+          return nvt36_features(V, T);
         }, py::arg("V"), py::arg("T"));
   m.def("unit_cube_normalize", [](VRef V, Eigen::Ref<const VectorXb> mask) { return unit_cube_normalize(V, mask); },
         py::arg("V"), py::arg("mask"));

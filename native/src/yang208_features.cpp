@@ -1,6 +1,6 @@
 #include "meshmark/yang208_features.h"
 #include "meshmark/edge_faces.h"
-#include "meshmark/error.h"
+#include "meshmark/feature_mesh_check.h"
 #include "meshmark/face_normals.h"
 #include "meshmark/feature_statistics.h"
 #include "meshmark/laplacian_coordinates.h"
@@ -27,17 +27,7 @@ void put8(Eigen::VectorXd& F, int j, const std::vector<double>& f) {
 
 Eigen::VectorXd yang208_features(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T) {
   const Index n = static_cast<Index>(V.rows());
-  VectorXb used = VectorXb::Zero(n);
-  for (Eigen::Index f = 0; f < T.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Index v = T(f, k);
-      if (v < 0 || v >= n) throw MeshError("face " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
-                                           ", out of range");
-      used[v] = 1;
-    }
-  if (T.rows() < 1 || used.cast<int>().sum() < 4)
-    throw MeshError("mesh too small for steganalysis features: need at least 4 vertices used by triangles, got " +
-                    std::to_string(used.cast<int>().sum()));
+  const VectorXb used = feature_mesh_check(V, T);
   const MatrixX3dR X = unit_cube_normalize(V, used);  // §8.1.1
   const EdgeList edges = unique_edges(n, Polygons::from_triangles(T));
   const Adjacency A = vertex_adjacency(n, edges.E);

@@ -2,7 +2,12 @@
 
 * ``yang208`` — thesis §8.1 exactly: PCA normalisation into the unit cube, calibration by one
   Kirchhoff Laplacian smoothing step, 26 difference vectors x 8 statistics (native:
-  ``native/src/yang208_features.cpp``).
+  ``native/src/yang208_features.cpp``);
+* ``lfs76`` — Li and Bors 2017, the sound version (corrected PCA projection, fixed centres, works on
+  open meshes): 19 vectors x 4 log-moments (``native/src/lfs76_features.cpp``);
+* ``nvt36`` — Zhou et al. 2019: eigenvalue differences of three normal voting tensors, 9 x 4
+  (``native/src/nvt36_features.cpp``);
+* combinations joined by ``+`` (``lfs76+nvt36``).
 
 Every set is computed natively from ``(V, triangles)``; :func:`features` takes a :class:`meshmark.Mesh`,
 a path or ``(V, F)``, triangulates polygons and returns a float64 vector. :data:`FEATURE_SETS` maps a
@@ -27,8 +32,23 @@ def _yang208(V, T):
     return _core.yang208_features(V, T)
 
 
+_LFS_VECTORS = ["cart_dx", "cart_dy", "cart_dz", "cart_norm", "lap_dx", "lap_dy", "lap_dz", "lap_norm", "face_normal",
+                "dihedral", "vertex_normal", "gauss_curv", "curv_ratio", "sph_az", "sph_elev", "sph_rho",
+                "edge_az", "edge_elev", "edge_rho"]
+_NVT_VECTORS = [f"{t}_lambda{k}" for t in ("face_edge", "vertex", "face_ring") for k in (1, 2, 3)]
+_STATS4 = ["log_mean", "log_var", "log_skew", "log_kurt"]
+
+
+def _lfs76(V, T):
+    return _core.lfs76_features(V, T, 0.3, 3.0)
+
+
+def _nvt36(V, T):
+    return _core.nvt36_features(V, T)
+
+
 #: set name -> (length, native function of (V (n,3) float64, T (t,3) int32))
-_SETS = {"yang208": (208, _yang208)}
+_SETS = {"yang208": (208, _yang208), "lfs76": (76, _lfs76), "nvt36": (36, _nvt36)}
 
 
 def _register(name: str, length: int, fn) -> None:
@@ -51,7 +71,8 @@ def feature_names(name: str) -> list[str]:
     raise MeshError(f"unknown feature set {name!r}; choose from {', '.join(sorted(_SETS))} or a '+' combination")
 
 
-_NAMES: dict = {}
+_NAMES: dict = {"lfs76": lambda: [f"{v}:{s}" for v in _LFS_VECTORS for s in _STATS4],
+                "nvt36": lambda: [f"{v}:{s}" for v in _NVT_VECTORS for s in _STATS4]}
 
 
 def _as_mesh(mesh) -> Mesh:
