@@ -118,15 +118,14 @@ def add_commands(group: click.Group) -> None:
         ds = None
         if dataset and pathlib.Path(dataset).is_file():
             ds = P.load_dataset(dataset)
-            if feature_set not in ds["X"]:
-                raise MeshError(f"dataset {dataset} has no {feature_set} features ({', '.join(ds['X'])})")
+            P.dataset_features(ds, feature_set)  # MeshError if a set is missing
         if ds is None:
             paths = P.mesh_files(covers)
             if not paths:
                 raise MeshError(f"empty corpus: no meshes in {', '.join(covers)}")
             ms = methods.split(",") if methods else None
             with P.one_thread():
-                ds = P.build_dataset(paths, ms, (feature_set,))
+                ds = P.build_dataset(paths, ms, tuple(feature_set.split("+")))
             if dataset:
                 P.save_dataset(ds, dataset)
         rows = P.evaluate(ds, feature_set, classifier, splits, test_fraction)

@@ -206,8 +206,17 @@ def evaluate(ds, feature_set: str, classifier: str = "ensemble", n_splits: int =
         return _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, methods, **params)
 
 
+def dataset_features(ds, feature_set: str) -> np.ndarray:
+    """The (N, d) features of ``feature_set`` (a '+' combination is the columns side by side)."""
+    parts = feature_set.split("+")
+    for p in parts:
+        if p not in ds["X"]:
+            raise MeshError(f"the dataset has no {p} features (it has {', '.join(ds['X'])})")
+    return np.hstack([ds["X"][p] for p in parts])
+
+
 def _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, methods, **params):
-    X = ds["X"][feature_set]
+    X = dataset_features(ds, feature_set)
     meth = ds["method"]
     n_cov = int(ds["cover"].max()) + 1
     methods = sorted({m for m in meth if m != "cover"}) if methods is None else methods
