@@ -51,7 +51,7 @@ OPEN = {  # file -> licence as stated in SOURCES.md
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", default=str(ROOT / "src" / "meshmark" / "steganalysis" / "default_model.npz"))
-    ap.add_argument("--set", dest="feature_set", default="yang208")
+    ap.add_argument("--set", dest="feature_set", default="yang208+lfs76+nvt36")
     ap.add_argument("--versions", type=int, default=3, help="stego versions per (cover, method)")
     ap.add_argument("--learners", type=int, default=31)
     a = ap.parse_args()
