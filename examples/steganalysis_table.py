@@ -17,6 +17,9 @@ a uniformly random message instead of a balanced one (eq. 6.4.17), the robust mo
 20 centre re-synchronisations: no centroid drift), and alpha = 0.02 / 0.06 (the ends of the range
 §8.2 draws alpha from).
 
+Two decisions per row: ``marked`` (the default binomial balance test, false-reject 1 %) and
+``marked_thesis`` (eq. 6.4.17 literally, eps' = 0.03; docs/steganalysis.md §5).
+
 Writes OUT.csv (one row per model and case: D at K' and at the true K, eqs. 6.4.16/17, ...),
 OUT_summary.csv (per folder, combined and per size class) and OUT.png (K accuracy and detection
 against the number of vertices per bin), and prints the tables. Thesis: Cho 64 bits 443 models,
