@@ -119,3 +119,32 @@ def test_cli_features_and_bad_input(tmp_path):
     assert x.returncode == 2 and "both covers and stego" in x.stderr and not (tmp_path / "m.npz").exists()
     x = run("detect", str(shared_mesh("classic/cow.obj")), "--model", str(tmp_path / "nope.npz"))
     assert x.returncode == 2 and "does not exist" in x.stderr
+
+
+def test_cli_train_detect_evaluate(tmp_path):
+    import shutil
+    covers = tmp_path / "covers"
+    covers.mkdir()
+    for n in ("vhacd_pig.off", "vhacd_eight.off", "libigl_bumpy.off", "odedstein_fish_low_resolution.obj",
+              "libigl_decimated-knight.off", "vhacd_block.off", "odedstein_torus.obj", "vhacd_helix.off"):
+        shutil.copy(shared_mesh(f"corpus/{n}"), covers / n)
+    model = tmp_path / "m.npz"
+    x = run("train", str(covers), "--out", str(model), "--set", "lfs76", "--methods", "cho-variance,radial", "--json")
+    d = json.loads(x.stdout)
+    assert x.returncode == 0, x.stderr
+    assert d["n_covers"] == 8 and d["methods"] == ["cho-variance", "radial"] and len(d["corpus_hash"]) == 64
+    x = run("detect", str(covers / "vhacd_pig.off"), "--model", str(model), "--json")
+    d = json.loads(x.stdout)
+    assert x.returncode in (0, 1) and set(d["methods"]) == {"cho-variance", "radial"}
+    assert isinstance(d["marked"], bool) and x.returncode == (0 if d["marked"] else 1)
+    x = run("evaluate", str(covers), "--set", "lfs76", "--methods", "cho-variance", "--splits", "2",
+            "--dataset", str(tmp_path / "ds.npz"), "--csv", str(tmp_path / "rows.csv"), "--json")
+    d = json.loads(x.stdout)
+    assert x.returncode == 0, x.stderr
+    assert {r["detector"] for r in d["table"]} == {"specific:cho-variance", "universal"}
+    assert (tmp_path / "ds.npz").is_file() and len((tmp_path / "rows.csv").read_text().splitlines()) == 5
+    x = run("evaluate", str(covers), "--set", "nvt36", "--dataset", str(tmp_path / "ds.npz"))
+    assert x.returncode == 2 and "no nvt36 features" in x.stderr
+    x = run("detect", str(covers / "vhacd_pig.off"), "--json")  # the shipped default model
+    d = json.loads(x.stdout)
+    assert x.returncode in (0, 1) and "cho-mean" in d["methods"] and d["feature_set"] == "yang208+lfs76+nvt36"
