@@ -51,3 +51,14 @@ def test_registry_dataset_and_evaluate():
         assert set(tab) == {"specific:toy-noise", "specific:cho-variance", "universal"}
     finally:
         del P.STEGO_METHODS["toy-noise"]
+
+
+def test_bad_corpora(tmp_path):
+    (tmp_path / "t.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.raises(MeshError, match="empty training corpus.*too small"):
+        P.build_dataset([tmp_path / "t.obj"], ["cho-mean"])
+    with pytest.raises(MeshError, match="no such file"):
+        P.mesh_files([tmp_path / "missing"])
+    ds = P.build_dataset([shared_mesh("corpus/vhacd_pig.off")], ["cho-variance"])
+    with pytest.raises(MeshError, match="at least 4 covers"):
+        P.evaluate(ds, "yang208")

@@ -143,6 +143,9 @@ def build_dataset(paths, methods=None, feature_sets=("yang208",), seed: int = 0,
                 X[s].append(fm[s])
         if log:
             log(f"[{i + 1}/{len(paths)}] {pathlib.Path(p).name} {time.perf_counter() - t0:.0f} s")
+    if not kept:
+        why = f"; first: {failed[0][0]}: {failed[0][2]}" if failed else ""
+        raise MeshError(f"empty training corpus: none of the {len(paths)} meshes could be read and featurised{why}")
     return {"cover": np.array(rows_c, int), "method": np.array(rows_m, dtype=object), "path": kept,
             "X": {s: np.array(v, float).reshape(len(rows_c), -1) for s, v in X.items()}, "failed": failed}
 
@@ -218,7 +221,11 @@ def dataset_features(ds, feature_set: str) -> np.ndarray:
 def _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, methods, **params):
     X = dataset_features(ds, feature_set)
     meth = ds["method"]
-    n_cov = int(ds["cover"].max()) + 1
+    n_cov = int(ds["cover"].max()) + 1 if len(ds["cover"]) else 0
+    if n_cov < 4:
+        raise MeshError(f"the split protocol needs at least 4 covers, got {n_cov}")
+    if not 0 < test_fraction < 1 or n_splits < 1:
+        raise MeshError(f"need 0 < test_fraction < 1 and n_splits >= 1, got {test_fraction} and {n_splits}")
     methods = sorted({m for m in meth if m != "cover"}) if methods is None else methods
     rows = []
     for k, (tr, te) in enumerate(splits(n_cov, n_splits, test_fraction, seed)):
