@@ -111,8 +111,8 @@ def add_commands(group: click.Group) -> None:
     @click.option("--csv", "csv_path", type=click.Path(dir_okay=False), help="Write one row per split and detector.")
     @click.option("--json", "as_json", is_flag=True, help="Print the median table as JSON.")
     def evaluate_cmd(covers, feature_set, classifier, splits, test_fraction, methods, dataset, csv_path, as_json):
-        """The ch. 8 protocol on COVERS: random cover-level splits, specific and universal detectors,
-        median accuracy / TPR / FPR / P_E."""
+        """Thesis chapter 8 protocol on COVERS: random cover-level splits, specific and universal
+        detectors, median accuracy / TPR / FPR / P_E."""
         from . import protocol as P
 
         ds = None
