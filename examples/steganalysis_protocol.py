@@ -87,6 +87,7 @@ def main():
     ap.add_argument("--splits", type=int, default=30)
     ap.add_argument("--out", default="out/steganalysis_protocol")
     ap.add_argument("--no-pca", action="store_true", help="skip the accuracy-vs-components curve")
+    ap.add_argument("--subset", default=None, help="only covers whose path contains this (e.g. psb-seg)")
     ap.add_argument("--holdout", type=int, default=20, help="procedural covers (not in ../shared) to test on")
     ap.add_argument("--holdout-set", default="yang208+lfs76+nvt36")
     a = ap.parse_args()
@@ -101,6 +102,8 @@ def main():
                                  log=lambda s: print(s, flush=True))
         P.save_dataset(ds, a.dataset)
     t_features = time.perf_counter() - t0
+    if a.subset:
+        ds = P.subset(ds, a.subset)
     counts = {m: int((ds["method"] == m).sum()) for m in sorted(set(ds["method"]))}
     print("dataset:", counts)
     rows, table = [], []

@@ -62,3 +62,12 @@ def test_bad_corpora(tmp_path):
     ds = P.build_dataset([shared_mesh("corpus/vhacd_pig.off")], ["cho-variance"])
     with pytest.raises(MeshError, match="at least 4 covers"):
         P.evaluate(ds, "yang208")
+
+
+def test_subset():
+    ds = {"cover": np.array([0, 0, 1, 1, 2]), "method": np.array(["cover", "a", "cover", "a", "cover"], dtype=object),
+          "path": ["x/psb-seg/1.off", "y/2.off", "x/psb-seg/3.off"], "X": {"s": np.arange(5.0)[:, None]}}
+    sub = P.subset(ds, "psb-seg")
+    assert sub["cover"].tolist() == [0, 0, 1] and sub["X"]["s"].ravel().tolist() == [0, 1, 4]
+    with pytest.raises(MeshError, match="no cover path"):
+        P.subset(ds, "nope")

@@ -163,6 +163,19 @@ def load_dataset(path) -> dict:
             "X": {k[2:]: z[k] for k in z.files if k.startswith("X_")}, "failed": []}
 
 
+def subset(ds, contains: str) -> dict:
+    """The covers whose path contains ``contains`` (e.g. ``"psb-seg"``), with their stego rows."""
+    keep = np.array([contains in p for p in ds["path"]])
+    if keep.sum() == 0:
+        raise MeshError(f"no cover path contains {contains!r}")
+    rows = keep[ds["cover"]]
+    remap = -np.ones(len(keep), int)
+    remap[keep] = np.arange(int(keep.sum()))
+    return {"cover": remap[ds["cover"][rows]], "method": ds["method"][rows],
+            "path": [p for p, k in zip(ds["path"], keep) if k], "X": {k: v[rows] for k, v in ds["X"].items()},
+            "failed": []}
+
+
 def splits(n_covers: int, n_splits: int = 30, test_fraction: float = 0.3, seed: int = 0):
     """Random cover-level splits: a cover and all its stego versions are on the same side."""
     rng = np.random.default_rng(seed)
