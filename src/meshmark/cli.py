@@ -370,10 +370,12 @@ def steganalysis_cho(inp, K_min, K_max, eps, eps2, thesis_exact, false_reject, a
          "min_C": float(r["min_C"]), "max_Ctilde": float(r["max_Ctilde"]), "size_C": int(r["size_C"]),
          "size_Ctilde": int(r["size_Ctilde"]), "balance_test": bool(r["balance_test"]),
          "p_balance": float(r["p_balance"]), "thesis_exact": bool(thesis_exact)}
+    rule = "(literal eq. 6.4.17)" if thesis_exact else f"(binomial, p = {d['p_balance']:.3g})"
     text = (f"{inp}: {'MARKED' if d['marked'] else 'clean'} (Cho mean method)\n"
             f"estimated bins K' = {d['k_estimate']}  Bhattacharyya D = {d['bhattacharyya']:.4g}\n"
             f"clusters {d['size_C']} / {d['size_Ctilde']}, min C {d['min_C']:.4f}, max C~ {d['max_Ctilde']:.4f}; "
-            f"eq. 6.4.16 {'holds' if d['eq_6_4_16'] else 'fails'}, eq. 6.4.17 {'holds' if d['eq_6_4_17'] else 'fails'}")
+            f"eq. 6.4.16 {'holds' if d['eq_6_4_16'] else 'fails'}, eq. 6.4.17 {'holds' if d['eq_6_4_17'] else 'fails'}; "
+            f"balance rule {rule} {'holds' if d['balance_test'] else 'fails'}")
     _emit(d, as_json, text)
     sys.exit(0 if d["marked"] else 1)
 
