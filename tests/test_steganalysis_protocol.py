@@ -71,3 +71,35 @@ def test_subset():
     assert sub["cover"].tolist() == [0, 0, 1] and sub["X"]["s"].ravel().tolist() == [0, 1, 4]
     with pytest.raises(MeshError, match="no cover path"):
         P.subset(ds, "nope")
+
+
+def test_stego_module_registration_with_the_api_of_main(monkeypatch):
+    """LSB and Chao come from meshmark.stego (not on this branch): a stand-in with the signatures of
+    main's stego.embed(mesh, message, key, tolerance) and stego.chao.embed(mesh, bits, fill, seed)."""
+    import sys
+    import types
+    seen = []
+
+    class R:
+        def __init__(self, V):
+            self.V = V
+
+    def embed(mesh, message, key, tolerance=1.0, adaptive=True, precision="fixed32", levels=None):
+        seen.append(("lsb", message, tolerance, bool(key)))
+        return R(mesh.V + 1)
+
+    def chao_embed(mesh, bits=None, *, message=None, n_layers=10, n_intervals=10000, fill=False, seed=None):
+        seen.append(("chao", len(bits), fill, n_layers, n_intervals))
+        return R(mesh.V + 2)
+
+    fake = types.ModuleType("meshmark.stego")
+    fake.embed, fake.chao = embed, types.SimpleNamespace(embed=chao_embed)
+    monkeypatch.setitem(sys.modules, "meshmark.stego", fake)
+    monkeypatch.setattr(meshmark, "stego", fake, raising=False)
+    got = {}
+    assert P._register_stego_module(lambda name, fn, text: got.__setitem__(name, fn))
+    assert list(got) == ["lsb-1deg", "lsb-2deg", "lsb-5deg", "chao"]
+    m = meshmark.read_mesh(shared_mesh("corpus/vhacd_pig.off"))
+    rng = np.random.default_rng(0)
+    assert np.array_equal(got["lsb-5deg"](m, rng), m.V + 1) and np.array_equal(got["chao"](m, rng), m.V + 2)
+    assert seen == [("lsb", b"", 5.0, True), ("chao", 0, True, 10, 10000)]

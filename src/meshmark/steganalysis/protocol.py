@@ -78,13 +78,34 @@ register_stego_method("radial", _radial, "Yang ch. 6, K 400, 64 bits")
 register_stego_method("laplacian", _laplacian(False), "meshmark defaults")
 register_stego_method("cho-mean:meshmark", _framework("cho-mean"), "meshmark defaults")
 register_stego_method("cho-variance:meshmark", _framework("cho-variance"), "meshmark defaults")
-# LSB (§4.3.2, eps 1/2/5 degrees) and Chao (n_layers 10, n_intervals 10000) are registered by meshmark.stego
-# when that module exists:
-try:  # pragma: no cover - depends on the stego branch
-    from ..stego import register_steganalysis_methods as _reg  # type: ignore
-    _reg(register_stego_method)
-except ImportError:
-    pass
+
+
+# LSB (§4.3.2) at eps = 1, 2, 5 degrees and Chao (n_layers 10, n_intervals 10000), both at full load,
+# from meshmark.stego (the `stego` branch; written against its API as merged on main: lsb
+# embed(mesh, message, key, tolerance) fills the carrier with the sealed frame plus random bytes,
+# chao.embed(mesh, bits, fill=True, seed) pads with random bits). Not run on this branch, where
+# meshmark.stego does not exist yet.
+def _register_stego_module(register=None) -> bool:
+    register = register or register_stego_method
+    try:
+        from .. import stego
+    except ImportError:
+        return False
+
+    def lsb(tol):
+        def embed(mesh, rng):
+            return stego.embed(mesh, b"", key=f"k{int(rng.integers(1 << 30))}", tolerance=tol).V
+        return embed
+
+    for tol in (1, 2, 5):
+        register(f"lsb-{tol}deg", lsb(float(tol)), f"§4.3.2, eps {tol} deg, full capacity")
+    register("chao", lambda mesh, rng: stego.chao.embed(mesh, np.zeros(0, np.uint8), fill=True,
+                                                        seed=int(rng.integers(1 << 31))).V,
+             "n_layers 10, n_intervals 10000, full capacity")
+    return True
+
+
+_register_stego_module()
 
 SUFFIXES = {".obj", ".off", ".ply", ".stl"}
 
