@@ -373,5 +373,8 @@ def steganalysis_cho(inp, K_min, K_max, eps, eps2, as_json):
     sys.exit(0 if d["marked"] else 1)
 
 
+main.add_command(__import__("meshmark.study.cli", fromlist=["study"]).study)
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()
