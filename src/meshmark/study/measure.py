@@ -64,6 +64,7 @@ class Context:
     embed: object = None
     seed: int = 0
     distance_seed: int = 0
+    distance_samples: int | None = None
     timings: dict = field(default_factory=dict)
     _extract: object = None
 
@@ -137,8 +138,9 @@ def _rmse(ctx):
 @register_measurement("hausdorff", {"hausdorff_rel": pa.float64(), "rms_rel": pa.float64()})
 def _hausdorff(ctx):
     """Symmetric Hausdorff (bounded within 1 %) and Metro RMS distance, relative to the reference's
-    bbox diagonal (metrics.surface_distance, seed = study.distance_seed)."""
-    d = M.surface_distance(ctx.reference, ctx.measured, seed=ctx.distance_seed)
+    bbox diagonal (metrics.surface_distance, seed = study.distance_seed, area samples =
+    study.distance_samples, default 2 x triangles)."""
+    d = M.surface_distance(ctx.reference, ctx.measured, seed=ctx.distance_seed, n_samples=ctx.distance_samples)
     return {"hausdorff_rel": d["hausdorff_rel"], "rms_rel": d["rms_rel"]}
 
 

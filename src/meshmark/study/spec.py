@@ -30,7 +30,7 @@ except ImportError:  # pragma: no cover - Python 3.10
 
 MESH_SUFFIXES = (".obj", ".off", ".ply", ".stl")
 TOP_KEYS = {"study", "meshes", "methods", "attacks", "measurements"}
-STUDY_KEYS = {"name", "seeds", "payload_bits", "key", "store", "weld", "distance_seed", "chunk_size", "description"}
+STUDY_KEYS = {"name", "seeds", "payload_bits", "key", "store", "weld", "distance_seed", "distance_samples", "chunk_size", "description"}
 MESH_KEYS = {"paths", "root", "exclude", "compact", "limit", "recursive"}
 VARIANT_KEYS = {"name", "params", "grid", "random", "draws", "label", "level", "undo", "chain"}
 CHAIN_KEYS = {"name", "params"}
@@ -159,6 +159,7 @@ class Spec:
     compact: bool = False
     store: bool = False
     distance_seed: int = 0
+    distance_samples: int | None = None
     chunk_size: int = 64
     raw: dict = field(default_factory=dict)
 
@@ -171,7 +172,7 @@ class Spec:
         from .. import __version__
         return {"meshmark": __version__, "format": 1, "measurements": sorted(self.measurements),
                 "payload_bits": self.payload_bits, "key": self.key, "weld": self.weld, "compact": self.compact,
-                "distance_seed": self.distance_seed}
+                "distance_seed": self.distance_seed, "distance_samples": self.distance_samples}
 
 
 def _canon(x) -> str:
@@ -374,7 +375,8 @@ def _build(raw: dict, L: _Lines, base: pathlib.Path, source: str) -> Spec:
     if len(set(seeds)) != len(seeds):
         ck.fail(("study", "seeds"), "seeds repeat")
     opts = {}
-    for k, typ, lo in (("payload_bits", int, 1), ("distance_seed", int, 0), ("chunk_size", int, 1)):
+    for k, typ, lo in (("payload_bits", int, 1), ("distance_seed", int, 0), ("distance_samples", int, 0),
+                         ("chunk_size", int, 1)):
         if k in study:
             v = study[k]
             if isinstance(v, bool) or not isinstance(v, typ) or v < lo:
@@ -552,7 +554,8 @@ def _attacks(ck, entries):
         for p in plist:
             chain = () if name == "none" else ((name, p),)
             if chain:
-                _check_attack_values(ck, path + ("name",), chain)
+                where = next((k for k in ("params", "grid", "random") if e.get(k)), "name")
+                _check_attack_values(ck, path + (where,), chain)
             label = _fmt_label(ck, path, e.get("label"), p, _auto_label(name, p, varying))
             out.append(AttackVariant(label, chain, undo, _level(p, varying, e.get("level"))))
     return _unique(ck, out, "attacks", lambda v: v.ident())

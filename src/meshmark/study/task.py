@@ -194,7 +194,8 @@ class Worker:
                 tm["t_attack"] = time.perf_counter() - ta
                 row["n_vertices"], row["n_faces"] = attacked.n_vertices, attacked.n_faces
                 ctx = Context(original=mesh, attacked=attacked, measured=measured, marked=marked, embed=emb,
-                              seed=seed, distance_seed=sp.distance_seed, timings=tm)
+                              seed=seed, distance_seed=sp.distance_seed,
+                              distance_samples=sp.distance_samples, timings=tm)
                 if emb is not None:
                     ctx.extract()
                 tmz = time.perf_counter()
