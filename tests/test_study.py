@@ -185,3 +185,32 @@ def test_resume_after_sigkill(reference_run, tmp_path):
     keys = [k for f in sorted((out / "results").glob("part-*.parquet")) for k in pq.read_table(f).column("key").to_pylist()]
     assert len(keys) == len(set(keys)) == 192 and n_parts < len(list((out / "results").glob("part-*.parquet")))
     _same(reference_run, out)
+
+
+def test_failed_task_is_recorded_retried_once_and_reported(tmp_path):
+    import pyarrow as pa
+    from meshmark.study import register_measurement
+    from meshmark.study.measure import MEASUREMENTS
+    calls = []
+
+    @register_measurement("boom_for_test", {"boom": pa.int64()})
+    def _boom(ctx):
+        calls.append(ctx.attacked.n_vertices)
+        if ctx.attacked.n_vertices == ctx.original.n_vertices:  # fails for the unattacked task only
+            raise RuntimeError("boom")
+        return {"boom": 1}
+
+    try:
+        spec = {"meshes": [str(shared_mesh("classic/suzanne.obj"))],
+                "attacks": ["none", {"name": "subdivide", "params": {"scheme": "midpoint"}}],
+                "measurements": ["rmse", "boom_for_test"]}
+        S = run(spec, tmp_path / "out", workers=0, progress=False)  # in-process: the registry is this one
+    finally:
+        del MEASUREMENTS["boom_for_test"]
+    assert (S.ok, S.failed, S.retried) == (1, 1, 1) and "RuntimeError: boom" in S.failures[0]["error"]
+    assert len(calls) == 3  # the failing task ran twice, the other once
+    rows = [r for f in sorted((tmp_path / "out" / "results").glob("part-*.parquet")) for r in pq.read_table(f).to_pylist()]
+    failed = sorted((r["attempt"], r["status"]) for r in rows if r["attack"] == "none")
+    assert failed == [(1, "error"), (2, "error")]
+    t = load_results(tmp_path / "out").to_pylist()
+    assert sorted((r["attack"], r["status"], r["boom"]) for r in t) == [("none", "error", None), ("subdivide", "ok", 1)]
