@@ -81,14 +81,14 @@ def apply_attack(variant, mesh: Mesh, seed: int):
         if name == "similarity":
             p = {"seed": seed, **p}
             out, R, s, t = A.similarity(mesh, return_transform=True, **p)
-            return out, Mesh((out.V - t) @ R / s, out.F)
+            return out, Mesh.from_polygons((out.V - t) @ R / s, out.face_indices, out.face_offsets, validate=False)
         if name == "rotate":
             out = A.rotate(mesh, **p)
             return out, A.rotate(out, **{**p, "angle": -p.get("angle", 30.0)})
         if name == "reorder":
             p = {"seed": seed, **p}
             out, vp, fp = A.reorder(mesh, return_permutations=True, **p)
-            return out, Mesh(out.V[np.argsort(vp)], mesh.F)
+            return out, Mesh.from_polygons(out.V[np.argsort(vp)], mesh.face_indices, mesh.face_offsets, validate=False)
     for j, (name, p) in enumerate(variant.chain):
         if name in A.ATTACKS:
             kw = dict(p)
