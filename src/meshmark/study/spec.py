@@ -30,7 +30,7 @@ except ImportError:  # pragma: no cover - Python 3.10
 
 MESH_SUFFIXES = (".obj", ".off", ".ply", ".stl")
 TOP_KEYS = {"study", "meshes", "methods", "attacks", "measurements"}
-STUDY_KEYS = {"name", "seeds", "payload_bits", "key", "store", "weld", "distance_seed", "distance_samples", "chunk_size", "description"}
+STUDY_KEYS = {"name", "seeds", "payload", "payload_bits", "key", "store", "weld", "distance_seed", "distance_samples", "chunk_size", "description"}
 MESH_KEYS = {"paths", "root", "exclude", "compact", "limit", "recursive"}
 VARIANT_KEYS = {"name", "params", "grid", "random", "draws", "label", "level", "undo", "chain"}
 CHAIN_KEYS = {"name", "params"}
@@ -154,6 +154,7 @@ class Spec:
     measurements: list         # [name]
     seeds: list
     payload_bits: int = 16
+    payload: str | None = None
     key: str = "seed-{seed}"
     weld: bool = True
     compact: bool = False
@@ -171,7 +172,7 @@ class Spec:
         """The inputs every task shares (part of every key)."""
         from .. import __version__
         return {"meshmark": __version__, "format": 1, "measurements": sorted(self.measurements),
-                "payload_bits": self.payload_bits, "key": self.key, "weld": self.weld, "compact": self.compact,
+                "payload_bits": self.payload_bits, **({"payload": self.payload} if self.payload is not None else {}), "key": self.key, "weld": self.weld, "compact": self.compact,
                 "distance_seed": self.distance_seed, "distance_samples": self.distance_samples}
 
 
@@ -387,6 +388,10 @@ def _build(raw: dict, L: _Lines, base: pathlib.Path, source: str) -> Spec:
             if not isinstance(study[k], bool):
                 ck.fail(("study", k), f"{k} must be true or false, got {study[k]!r}")
             opts[k] = study[k]
+    if "payload" in study:
+        if not isinstance(study["payload"], str) or not study["payload"]:
+            ck.fail(("study", "payload"), f"payload must be a non-empty text message, got {study['payload']!r}")
+        opts["payload"] = study["payload"]
     if "key" in study:
         if not isinstance(study["key"], str) or not study["key"]:
             ck.fail(("study", "key"), "key must be a non-empty string (may contain {seed})")
@@ -647,6 +652,7 @@ def embed_key(mesh_digest_hex: str, method: MethodVariant, seed: int, spec: Spec
     any study with the same inputs (whatever its attacks or mesh names) finds it."""
     from .. import __version__
     return hashlib.blake2b(_canon({"mesh": mesh_digest_hex, "method": method.ident(), "seed": seed,
-                                   "payload_bits": spec.payload_bits, "key": spec.key, "weld": spec.weld,
+                                   "payload_bits": spec.payload_bits, "key": spec.key,
+                                   **({"payload": spec.payload} if spec.payload is not None else {}), "weld": spec.weld,
                                    "compact": spec.compact, "meshmark": __version__}).encode(),
                            digest_size=16).hexdigest()

@@ -133,7 +133,11 @@ class Worker:
                 return framework.EmbedResult(V=hit.mesh.V, keyfile=kf, capacity=int(hit.meta["capacity"]),
                                              stats=dict(hit.meta.get("stats", {})))
         cap = framework.capacity(mesh, method=mv.name, weld=sp.weld, **mv.params)
-        payload = make_payload(cap, sp.payload_bits, seed)
+        if sp.payload is not None:  # a fixed text message
+            from ..watermark.payload import Payload
+            payload = Payload.coerce(sp.payload)
+        else:
+            payload = make_payload(cap, sp.payload_bits, seed)
         r = framework.embed(mesh, payload=payload, key=sp.key.format(seed=seed), method=mv.name, weld=sp.weld,
                             **mv.params)
         if ek is not None:
