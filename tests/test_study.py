@@ -238,3 +238,21 @@ def test_bend_is_the_laplacian_tests_skinning_and_blender_bend_runs_when_bpy_is_
     assert np.allclose(flat.V, m.V, atol=1e-6) and np.array_equal(flat.face_indices, m.face_indices)
     bent = deform.apply("blender_bend", m, {"degrees": 90.0, "axis": "X"})
     assert bent.n_vertices == m.n_vertices and np.abs(bent.V - m.V).max() > 0.1
+
+
+def test_status_and_plot_commands(reference_run, tmp_path):
+    import json
+    r = subprocess.run([MESHMARK, "study", "status", str(reference_run), "--spec", str(SMOKE), "--json"],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["planned"] == 192 and d["remaining"] == 0 and d["rows"] == 192 and sum(d["by_status"].values()) == 192
+    r = subprocess.run([MESHMARK, "study", "plot", str(reference_run), "--out", str(tmp_path / "plots")],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    names = sorted(pathlib.Path(p).name for p in r.stdout.split())
+    assert names == ["capacity_vs_size.png", "cdr_vs_strength.png", "detection_vs_deformation.png", "summary.csv"]
+    import csv
+    rows = list(csv.DictReader(open(tmp_path / "plots" / "summary.csv")))
+    lap_none = next(x for x in rows if x["method"] == "laplacian" and x["attack"] == "none")
+    assert lap_none["tasks"] == "6" and float(lap_none["cdr"]) == 1.0  # 3 meshes x 2 seeds; ok rows read back
