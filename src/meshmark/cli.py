@@ -387,5 +387,8 @@ from .analysis.cli import analyze; main.add_command(analyze)  # noqa: E402,E702 
 from .steganalysis.cli import add_commands as _steganalysis_commands; _steganalysis_commands(steganalysis)  # noqa: E402,E702
 
 
+main.add_command(__import__("meshmark.study.cli", fromlist=["study"]).study)
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()
