@@ -216,7 +216,8 @@ def test_failed_task_is_recorded_retried_once_and_reported(tmp_path):
     assert sorted((r["attack"], r["status"], r["boom"]) for r in t) == [("none", "error", None), ("subdivide", "ok", 1)]
 
 
-def test_bend_is_the_laplacian_tests_skinning_and_blender_bend_runs_when_bpy_is_there():
+def test_bend_is_the_laplacian_tests_skinning():
+    """blender_bend is tested with bpy in blender_tests/test_study_blender.py."""
     from test_laplacian_watermark import bend as reference_bend, jittered_arm
     from meshmark.study import deform
     from meshmark.study.task import builtin_mesh
@@ -228,16 +229,6 @@ def test_bend_is_the_laplacian_tests_skinning_and_blender_bend_runs_when_bpy_is_
     # relative joint: the middle of the z extent with a tenth of it as the blend width
     lo, hi = arm.V[:, 2].min(), arm.V[:, 2].max()
     assert np.allclose(deform.bend(arm, degrees=45).V, reference_bend(arm.V, 45, (lo + hi) / 2, 0.1 * (hi - lo)), rtol=0, atol=1e-12)
-    try:
-        import bpy  # noqa: F401
-    except ImportError:
-        assert "blender_bend" not in deform.available()
-        return
-    m = meshmark.shapes.cylinder(segments=16, rings=32)
-    flat = deform.apply("blender_bend", m, {"degrees": 0.0, "axis": "X"})
-    assert np.allclose(flat.V, m.V, atol=1e-6) and np.array_equal(flat.face_indices, m.face_indices)
-    bent = deform.apply("blender_bend", m, {"degrees": 90.0, "axis": "X"})
-    assert bent.n_vertices == m.n_vertices and np.abs(bent.V - m.V).max() > 0.1
 
 
 def test_status_and_plot_commands(reference_run, tmp_path):
