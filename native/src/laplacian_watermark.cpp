@@ -225,6 +225,16 @@ MatrixX3dR length_change(const MatrixX3dR& L, const Eigen::VectorXd& d, const Ei
   return dL;
 }
 
+// The same for any carrier (laplacian_carrier.h): dL_i = direction_i gain_i (d^_i - d_i), the
+// first-order change of L_i that takes s_i to d^_i (for the thesis carrier this is eq. 7.2.19).
+MatrixX3dR carrier_change(const LaplacianCarrierField& F, const Eigen::VectorXd& d, const Eigen::VectorXd& d_target) {
+  const Index n = static_cast<Index>(d.size());
+  MatrixX3dR dL = MatrixX3dR::Zero(n, 3);
+  for (Index i = 0; i < n; ++i)
+    if (d_target[i] != d[i]) dL.row(i) = F.direction.row(i) * (F.gain[i] * (d_target[i] - d[i]));
+  return dL;
+}
+
 // Jacobi-preconditioned conjugate gradients on (K + shift I) X = B for the Kirchhoff matrix K of the
 // adjacency (eq. 7.1.3), applied without assembling it; each of the 3 columns is its own system.
 // Starts from X = 0 and takes at most `iterations` steps (fewer once every column's residual is below
@@ -311,14 +321,26 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
   const Index n = static_cast<Index>(V.rows());
   if (pairs.size() != bits.size()) throw MeshError("pairs and bits differ in length");
   if (opt.n_robust < 1) throw MeshError("n_robust must be >= 1, got " + std::to_string(opt.n_robust));
+  const bool thesis_carrier = opt.carrier == LaplacianCarrier::Thesis && opt.compress == 0;
+  if (!thesis_carrier && opt.thesis_exact) throw MeshError("thesis_exact uses the thesis carrier only");
+  if (!thesis_carrier && (!opt.edges || !opt.triangles))
+    throw MeshError("the Laplacian carrier needs the mesh's edges and triangles");
   const double eps_measure = opt.thesis_exact ? opt.eps : 0.0;
-  MatrixX3dR L = laplacian_coordinates(V, A, eps_measure);  // eq. 7.1.2
-  Eigen::VectorXd d = L.rowwise().norm() / opt.scale;        // eq. 7.1.5
+  MatrixX3dR L;
+  Eigen::VectorXd d;
+  LaplacianCarrierField field;
+  if (thesis_carrier) {
+    L = laplacian_coordinates(V, A, eps_measure);  // eq. 7.1.2
+    d = L.rowwise().norm() / opt.scale;             // eq. 7.1.5
+  } else {
+    field = laplacian_carrier(V, *opt.edges, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
+    d = field.value;
+  }
 
   LaplacianEmbedResult R;
   R.d_target = d;
   R.n_moved = select_targets(d, hist, pairs, bits, opt, opt.thesis_exact, R.d_target).n_moved;
-  MatrixX3dR dL = length_change(L, d, R.d_target);
+  MatrixX3dR dL = thesis_carrier ? length_change(L, d, R.d_target) : carrier_change(field, d, R.d_target);
 
   if (opt.thesis_exact) {
     // §7.2.2: X^ = M^-1 L^ with M = K - eps I (eq. 7.1.4), L^ = L + dL.
@@ -358,6 +380,15 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     comp_p[k] = comp[order[k]];
     mask[k] = Ap.ptr[k + 1] > Ap.ptr[k] ? 1 : 0;
   }
+  MatrixX2iR Ep;  // edges and triangles in the breadth-first numbering (carriers other than the thesis')
+  MatrixX3iR Tp;
+  if (!thesis_carrier) {
+    Ep.resize(opt.edges->rows(), 2);
+    for (Eigen::Index e = 0; e < Ep.rows(); ++e) Ep(e, 0) = inv[(*opt.edges)(e, 0)], Ep(e, 1) = inv[(*opt.edges)(e, 1)];
+    Tp.resize(opt.triangles->rows(), 3);
+    for (Eigen::Index t = 0; t < Tp.rows(); ++t)
+      for (int c = 0; c < 3; ++c) Tp(t, c) = inv[(*opt.triangles)(t, c)];
+  }
   MatrixX3dR dX(n, 3);
   for (int round = 0;; ++round) {
     remove_component_mean(comp_p, n_comp, dLp);
@@ -366,8 +397,13 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     X += dX;
     R.rounds = round + 1;
     if (round + 1 >= opt.max_rounds) break;
-    L = laplacian_coordinates(X, Ap, 0.0);
-    d = L.rowwise().norm() / opt.scale;
+    if (thesis_carrier) {
+      L = laplacian_coordinates(X, Ap, 0.0);
+      d = L.rowwise().norm() / opt.scale;
+    } else {
+      field = laplacian_carrier(X, Ep, Tp, opt.carrier, opt.scale, true, opt.compress);
+      d = field.value;
+    }
     const LaplacianHistogram h = laplacian_histogram(d, hist.K, hist.lo, hist.hi, mask);
     Eigen::VectorXd dt = d;
     const Selection S = select_targets(d, h, pairs, bits, opt, false, dt);
@@ -375,7 +411,7 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     R.n_moved += S.n_moved;
     for (Index k = 0; k < n; ++k)
       if (dt[k] != d[k]) R.d_target[order[k]] = dt[k];
-    dLp = length_change(L, d, dt);
+    dLp = thesis_carrier ? length_change(L, d, dt) : carrier_change(field, d, dt);
   }
   R.V.resize(n, 3);
   for (Index k = 0; k < n; ++k) R.V.row(order[k]) = X.row(k);

@@ -9,6 +9,7 @@
 // The Python layer (meshmark.watermark.laplacian) chooses the carriers and the bits (key, payload
 // coding) and normalises d by the mean edge length; this layer only does the per-element work.
 #pragma once
+#include "meshmark/laplacian_carrier.h"
 #include "meshmark/mesh.h"
 #include "meshmark/vertex_adjacency.h"
 
@@ -46,6 +47,14 @@ struct LaplacianEmbedOptions {
   // and topping up the pairs that lack part of their margin, at most max_rounds rounds.
   int iterations = 5;
   int max_rounds = 8;
+  // The scalar that is binned (laplacian_carrier.h). Thesis: d_i = ||L_i|| / scale from the adjacency,
+  // as above. The others are computed by laplacian_carrier() from `edges` and `triangles` (the unique
+  // edges the adjacency was built from, and the mesh's triangles; both must outlive the call), and the
+  // target values are realised by changing L_i along the field's direction (eq. 7.2.19 generalised).
+  LaplacianCarrier carrier = LaplacianCarrier::Thesis;
+  double compress = 0.0;  // laplacian_carrier()'s asinh compression (0: none)
+  const MatrixX2iR* edges = nullptr;
+  const MatrixX3iR* triangles = nullptr;
 };
 
 struct LaplacianEmbedResult {

@@ -1,0 +1,124 @@
+#include "meshmark/laplacian_carrier.h"
+#include "meshmark/error.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace meshmark {
+
+LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX2iR>& E,
+                                        const Eigen::Ref<const MatrixX3iR>& T, LaplacianCarrier kind, double scale,
+                                        bool with_direction, double compress) {
+  const Eigen::Index n = V.rows();
+  const int k = static_cast<int>(kind);
+  if (k < 0 || k > 5) throw MeshError("unknown Laplacian carrier " + std::to_string(k));
+  if (!(scale > 0)) throw MeshError("carrier scale must be > 0");
+  if (!(compress >= 0)) throw MeshError("carrier compression must be >= 0");
+  const bool local = kind != LaplacianCarrier::Thesis && kind != LaplacianCarrier::NormalGlobal;
+  const bool normal = kind == LaplacianCarrier::Normal || kind == LaplacianCarrier::CotNormal ||
+                      kind == LaplacianCarrier::NormalGlobal;
+  const bool cot = kind == LaplacianCarrier::CotLocal || kind == LaplacianCarrier::CotNormal;
+  if ((normal || cot) && T.rows() == 0 && E.rows() > 0)
+    throw MeshError("the normal and cotangent carriers need the mesh's triangles");
+
+  // Uniform Laplacian L_i = sum_{j in N(i)} (x_i - x_j) (eqs. 7.1.2-7.1.3), valence and the sum of
+  // the incident edge lengths, in one pass over the edges.
+  MatrixX3dR L = MatrixX3dR::Zero(n, 3);
+  Eigen::VectorXd elen = Eigen::VectorXd::Zero(local ? n : 0);
+  Eigen::VectorXd deg = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index e = 0; e < E.rows(); ++e) {
+    const Index a = E(e, 0), b = E(e, 1);
+    const double x = V(a, 0) - V(b, 0), y = V(a, 1) - V(b, 1), z = V(a, 2) - V(b, 2);
+    L(a, 0) += x, L(a, 1) += y, L(a, 2) += z;
+    L(b, 0) -= x, L(b, 1) -= y, L(b, 2) -= z;
+    deg[a] += 1, deg[b] += 1;
+    if (local) {
+      const double l = std::sqrt(x * x + y * y + z * z);
+      elen[a] += l, elen[b] += l;
+    }
+  }
+  // Triangles: area-weighted normals, cotangent Laplacian C_i and barycentric areas A_i.
+  MatrixX3dR N, C;
+  Eigen::VectorXd area, W;
+  if (normal || cot) {
+    N = MatrixX3dR::Zero(n, 3);
+    if (cot) C = MatrixX3dR::Zero(n, 3), area = Eigen::VectorXd::Zero(n), W = Eigen::VectorXd::Zero(n);
+    for (Eigen::Index f = 0; f < T.rows(); ++f) {
+      const Index i0 = T(f, 0), i1 = T(f, 1), i2 = T(f, 2);
+      const Eigen::RowVector3d p0 = V.row(i0), p1 = V.row(i1), p2 = V.row(i2);
+      const Eigen::RowVector3d cr = (p1 - p0).cross(p2 - p0);
+      N.row(i0) += cr, N.row(i1) += cr, N.row(i2) += cr;
+      if (!cot) continue;
+      const double dbl = cr.norm();  // twice the triangle's area
+      if (!(dbl > 0)) continue;
+      const Index id[3] = {i0, i1, i2};
+      const Eigen::RowVector3d p[3] = {p0, p1, p2};
+      for (int c = 0; c < 3; ++c) {
+        // the corner c weighs the opposite edge (u, w): cot = (a . b) / |a x b|
+        const Index u = id[(c + 1) % 3], w = id[(c + 2) % 3];
+        const Eigen::RowVector3d a = p[(c + 1) % 3] - p[c], b = p[(c + 2) % 3] - p[c];
+        const double ct = 0.5 * a.dot(b) / dbl;
+        const Eigen::RowVector3d duw = p[(c + 1) % 3] - p[(c + 2) % 3];
+        C.row(u) += ct * duw, C.row(w) -= ct * duw;
+        W[u] += ct, W[w] += ct;
+        area[id[c]] += dbl / 6.0;
+      }
+    }
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double len = N.row(i).norm();
+      if (len > 0) N.row(i) /= len;
+    }
+  }
+
+  LaplacianCarrierField out;
+  out.value = Eigen::VectorXd::Zero(n);
+  if (with_direction) out.direction = MatrixX3dR::Zero(n, 3), out.gain = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (deg[i] == 0) continue;
+    const double ell = local ? elen[i] / deg[i] : scale;  // l_i, or the global unit of the thesis carrier
+    if (!(ell > 0)) continue;
+    const Eigen::RowVector3d Li = L.row(i);
+    switch (kind) {
+      case LaplacianCarrier::Thesis:
+      case LaplacianCarrier::Local: {
+        const double d = Li.norm();  // eq. 7.1.5
+        out.value[i] = d / ell;
+        if (with_direction && d > 0) out.direction.row(i) = Li / d, out.gain[i] = ell;
+        break;
+      }
+      case LaplacianCarrier::Normal:
+      case LaplacianCarrier::NormalGlobal:
+        out.value[i] = Li.dot(N.row(i)) / ell;
+        if (with_direction) out.direction.row(i) = N.row(i), out.gain[i] = ell;
+        break;
+      case LaplacianCarrier::CotLocal:
+      case LaplacianCarrier::CotNormal: {
+        if (!(area[i] > 0)) break;
+        const Eigen::RowVector3d Ci = C.row(i);
+        const double u = ell / area[i];
+        // dC_i ~ (W_i / deg_i) dL_i when v_i moves against its 1-ring; W_i clamped (obtuse triangles)
+        const double g = deg[i] * area[i] / (ell * std::max(W[i], 0.1 * deg[i]));
+        if (kind == LaplacianCarrier::CotLocal) {
+          const double c = Ci.norm();
+          out.value[i] = c * u;
+          if (with_direction && c > 0) out.direction.row(i) = Ci / c, out.gain[i] = g;
+        } else {
+          out.value[i] = Ci.dot(N.row(i)) * u;
+          if (with_direction) out.direction.row(i) = N.row(i), out.gain[i] = g;
+        }
+        break;
+      }
+    }
+    if (compress > 0) {  // g = asinh(s / c), ds/dg = sqrt(s^2 + c^2)
+      const double v = out.value[i];
+      out.value[i] = std::asinh(v / compress);
+      if (with_direction) out.gain[i] *= std::sqrt(v * v + compress * compress);
+    }
+  }
+  return out;
+}
+
+}  // namespace meshmark
