@@ -29,14 +29,15 @@ NAME = "laplacian"
 DEFAULTS = {"K": None, "n_thr": 46, "n_robust": 5, "eps": 1e-5, "thesis_exact": False, "solver": "iterative",
             "carrier": None}
 SOLVERS = {"iterative": 5, "direct": 0}  # PCG steps per round (docs/laplacian.md); 0 = one exact solve
+MAX_SOLVE_ROUNDS = 8  # rounds of the iterative reconstruction
 # The binned scalar (native/include/meshmark/laplacian_carrier.h, docs/carrier.md): name -> (native
 # kind, asinh compression, divided by the global mean edge length). "thesis" is ||L_i|| (eq. 7.1.5)
 # over the global mean edge length; "local" ||L_i|| / l_i and "normal" (L_i . n_i) / l_i use the mean
-# length l_i of the vertex's own edges; "cot_*" the cotangent Laplacian; "*_asinh" bin asinh(s / c).
-# Keyfiles without the field use "thesis".
+# length l_i of the vertex's own edges; "cot_*" use the cotangent Laplacian; "normal_global" is
+# (L_i . n_i) over the global mean edge length. (The native asinh compression is measured by
+# examples/carrier_skinning.py only: it loses bits to OBJ rounding.) Keyfiles without the field use "thesis".
 CARRIERS = {"thesis": (0, 0.0, True), "local": (1, 0.0, False), "normal": (2, 0.0, False),
-            "cot_local": (3, 0.0, False), "cot_normal": (4, 0.0, False), "normal_global": (5, 0.0, True),
-            "thesis_asinh": (0, 0.25, True), "normal_asinh": (2, 0.1, False)}
+            "cot_local": (3, 0.0, False), "cot_normal": (4, 0.0, False), "normal_global": (5, 0.0, True)}
 DEFAULT_CARRIER = "thesis"
 
 
@@ -162,7 +163,7 @@ class _Laplacian:
         pm = np.where(np.asarray(bits) > 0, 1, -1)
         V, _, n_moved, rounds, iters = _core.laplacian_embed(
             mesh.V, E, bins, counts, side["lo"], side["hi"], [int(i) for i in ids], pm.tolist(), p["n_robust"],
-            p["eps"], p["thesis_exact"], scale, SOLVERS[p.get("solver", "iterative")], 8,
+            p["eps"], p["thesis_exact"], scale, SOLVERS[p.get("solver", "iterative")], MAX_SOLVE_ROUNDS,
             CARRIERS[carrier_of(p)][0],
             _triangles(mesh) if carrier_of(p) != "thesis" else np.zeros((0, 3), np.int32), CARRIERS[carrier_of(p)][1])
         side = dict(side)
