@@ -43,7 +43,7 @@ def main():
         for c in a.carriers.split(","):
             cap = lap.capacity(m, carrier=c)
             msg = "(c)" if cap >= 40 else "c" if cap >= 24 else None
-            if cap < 8:
+            if cap < 17:  # the smallest framed payload (1 bit + 16 framing bits)
                 rows.append({"mesh": name, "carrier": c, "capacity": cap, "exact": "", "min_margin": "", "rounds": ""})
                 continue
             r = lap.embed(m, payload=msg if msg else Payload.from_bits([1]), key="no-attack", carrier=c)

@@ -131,12 +131,7 @@ void bind_laplacian(py::module_& m) {
           o.max_rounds = max_rounds;
           o.carrier = static_cast<LaplacianCarrier>(carrier);
           o.compress = compress;
-          MatrixX2iR Ec;
-          MatrixX3iR Tc;
-          if (o.carrier != LaplacianCarrier::Thesis || compress > 0) {
-            Ec = E, Tc = T;
-            o.edges = &Ec, o.triangles = &Tc;
-          }
+          if (o.carrier != LaplacianCarrier::Thesis || compress > 0) o.edges = &E, o.triangles = &T;
           LaplacianEmbedResult r;
           {
             py::gil_scoped_release release;

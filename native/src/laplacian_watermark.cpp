@@ -356,11 +356,29 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
   const VectorXi comp = component_labels(A, n, n_comp, opt.iterations > 0 ? &order : nullptr);
   const double eps_solve = 1e-8;
   if (opt.iterations <= 0) {  // direct: one exact solve, as §7.2.2
-    remove_component_mean(comp, n_comp, dL);
-    MatrixX3dR dX = solve(kirchhoff_matrix_shifted(A, eps_solve), dL, true);
-    remove_component_mean(comp, n_comp, dX);
-    R.V = V + dX;
-    R.rounds = 1;
+    const Eigen::SparseMatrix<double> M = kirchhoff_matrix_shifted(A, eps_solve);
+    R.V = V;
+    VectorXb used(n);
+    for (Index i = 0; i < n; ++i) used[i] = A.ptr[i + 1] > A.ptr[i] ? 1 : 0;
+    for (int round = 0;; ++round) {
+      remove_component_mean(comp, n_comp, dL);
+      MatrixX3dR dX = solve(M, dL, true);
+      remove_component_mean(comp, n_comp, dX);
+      R.V += dX;
+      R.rounds = round + 1;
+      // The thesis carrier is reached by the one solve (L = K X is linear). The other carriers depend
+      // on the 1-ring's edge lengths and normals too: re-read and top up, as the iterative rounds do.
+      if (thesis_carrier || round + 1 >= opt.max_rounds) break;
+      field = laplacian_carrier(R.V, *opt.edges, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
+      const LaplacianHistogram h = laplacian_histogram(field.value, hist.K, hist.lo, hist.hi, used);
+      Eigen::VectorXd dt = field.value;
+      const Selection S = select_targets(field.value, h, pairs, bits, opt, false, dt);
+      if (S.short_pairs == 0) break;
+      R.n_moved += S.n_moved;
+      for (Index i = 0; i < n; ++i)
+        if (dt[i] != field.value[i]) R.d_target[i] = dt[i];
+      dL = carrier_change(field, field.value, dt);
+    }
     return R;
   }
   // Iterative (default): the solve only has to put the histogram where the mark needs it. Each round

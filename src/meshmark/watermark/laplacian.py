@@ -38,7 +38,7 @@ MAX_SOLVE_ROUNDS = 8  # rounds of the iterative reconstruction
 # examples/carrier_skinning.py only: it loses bits to OBJ rounding.) Keyfiles without the field use "thesis".
 CARRIERS = {"thesis": (0, 0.0, True), "local": (1, 0.0, False), "normal": (2, 0.0, False),
             "cot_local": (3, 0.0, False), "cot_normal": (4, 0.0, False), "normal_global": (5, 0.0, True)}
-DEFAULT_CARRIER = "thesis"
+DEFAULT_CARRIER = "local"  # docs/carrier.md: detected on more frames of the Blender rigs
 
 
 def carrier_of(p: dict) -> str:
@@ -57,7 +57,7 @@ def _carrier_field(mesh: Mesh, carrier: str):
         d, mel = _core.laplacian_lengths_scaled(mesh.V, E, 0.0)
         return E, d / mel, mel
     scale = _core.mean_edge_length(mesh.V, E) if global_unit else 1.0
-    return E, _core.laplacian_carrier(mesh.V, E, _triangles(mesh), kind, scale, compress), scale
+    return E, _core.laplacian_carrier(mesh.V, E, _triangles(mesh, carrier), kind, scale, compress), scale
 
 
 def carrier_values(mesh: Mesh, carrier: str) -> np.ndarray:
@@ -69,8 +69,14 @@ def _edges(mesh: Mesh) -> np.ndarray:
     return mesh.edges()
 
 
-def _triangles(mesh: Mesh) -> np.ndarray:
-    """(t, 3) int32 triangles (for normals and cotangent weights), cached with the topology."""
+NO_TRIANGLES = np.zeros((0, 3), np.int32)
+
+
+def _triangles(mesh: Mesh, carrier: str = "normal") -> np.ndarray:
+    """(t, 3) int32 triangles for the carriers that need normals or cotangent weights (cached with the
+    topology); an empty array for "thesis" and "local", which use the edges only."""
+    if carrier in ("thesis", "local"):
+        return NO_TRIANGLES
     topo = mesh._topology
     if "triangles" not in topo:
         topo["triangles"] = np.ascontiguousarray(mesh.triangles, dtype=np.int32)
@@ -165,7 +171,7 @@ class _Laplacian:
             mesh.V, E, bins, counts, side["lo"], side["hi"], [int(i) for i in ids], pm.tolist(), p["n_robust"],
             p["eps"], p["thesis_exact"], scale, SOLVERS[p.get("solver", "iterative")], MAX_SOLVE_ROUNDS,
             CARRIERS[carrier_of(p)][0],
-            _triangles(mesh) if carrier_of(p) != "thesis" else np.zeros((0, 3), np.int32), CARRIERS[carrier_of(p)][1])
+            _triangles(mesh, carrier_of(p)), CARRIERS[carrier_of(p)][1])
         side = dict(side)
         if not p["thesis_exact"]:  # express the range in units of the marked mesh's mean edge length
             _, dm, scale_marked = self._lengths(mesh.with_vertices(V), p)
