@@ -180,3 +180,20 @@ def test_carrier_parameter_errors():
         _core.laplacian_carrier(m.V, m.edges(), np.zeros((0, 3), np.int32), 2)
     with pytest.raises(MeshError, match="outside"):
         _core.laplacian_carrier(m.V, m.edges(), m.F + 1, 2)
+
+
+def test_cli_carrier_option(tmp_path):
+    import subprocess
+    import sys
+    src = str(shared_mesh("classic/elephant.off"))
+    run = lambda *a: subprocess.run([sys.executable, "-m", "meshmark.cli", *a], capture_output=True, text=True)
+    cap = {c: json.loads(run("capacity", src, "--carrier", c, "--json").stdout)["capacity"] for c in ("thesis", "local")}
+    assert cap == {"thesis": 44, "local": 77}  # thesis defaults K = 286, n_thr = 46
+    out, kf = str(tmp_path / "m.ply"), str(tmp_path / "k.json")
+    e = run("embed", src, out, "--carrier", "thesis", "--message", "E", "--key", "abc", "--keyfile", kf)
+    assert e.returncode == 0, e.stderr
+    assert load_keyfile(kf).params["carrier"] == "thesis"
+    x = json.loads(run("extract", out, "--keyfile", kf, "--json").stdout)
+    assert x["detected"] and x["message"] == "E" and x["cdr"] == 1.0
+    bad = run("capacity", src, "--method", "radial", "--carrier", "local")
+    assert bad.returncode == 2 and "carrier" in bad.stderr
