@@ -17,6 +17,9 @@ DESCRIPTIONS = {
     "n_robust": ("Robustness", "Margin divisor of eq. 7.2.16 (thesis: 5)"),
     "eps": ("Epsilon", "Regularisation of the Kirchhoff matrix, eq. 7.1.4 (thesis: 1e-5)"),
     "thesis_exact": ("Thesis exact", "Run the thesis algorithm to the letter (no robustness fixes)"),
+    "carrier": ("Carrier", "Laplacian scalar that is binned: 'local' (||L|| over the 1-ring's mean edge length, "
+                           "default), 'thesis' (over the global mean edge length, eq. 7.1.5), 'normal', "
+                           "'normal_global', 'cot_local', 'cot_normal' (docs/carrier.md)"),
     "solver": ("Solver", "Reconstruction: 'iterative' (PCG rounds until every carrier holds its margin) "
                          "or 'direct' (one exact sparse solve, thesis §7.2.2)"),
 }

@@ -131,7 +131,7 @@ void bind_laplacian(py::module_& m) {
           o.max_rounds = max_rounds;
           o.carrier = static_cast<LaplacianCarrier>(carrier);
           o.compress = compress;
-          if (o.carrier != LaplacianCarrier::Thesis || compress > 0) o.edges = &E, o.triangles = &T;
+          if (o.carrier != LaplacianCarrier::Thesis || compress > 0) o.triangles = &T;
           LaplacianEmbedResult r;
           {
             py::gil_scoped_release release;

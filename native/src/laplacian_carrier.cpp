@@ -9,37 +9,82 @@
 
 namespace meshmark {
 
-LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX2iR>& E,
-                                        const Eigen::Ref<const MatrixX3iR>& T, LaplacianCarrier kind, double scale,
-                                        bool with_direction, double compress) {
-  const Eigen::Index n = V.rows();
+namespace {
+
+// Per vertex: the uniform Laplacian L_i = sum_{j in N(i)} (x_i - x_j) (eqs. 7.1.2-7.1.3) and the sum of the
+// incident edge lengths, side by side (one cache line per vertex and edge end), and the valence.
+struct RingSums {
+  Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> acc;  // Lx, Ly, Lz, sum of edge lengths
+  VectorXi deg;
+};
+
+LaplacianCarrierField finish(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T,
+                             LaplacianCarrier kind, double scale, bool with_direction, double compress,
+                             const RingSums& S);
+
+void check(LaplacianCarrier kind, double scale, double compress, Eigen::Index n_tri, Eigen::Index n_edges) {
   const int k = static_cast<int>(kind);
   if (k < 0 || k > 5) throw MeshError("unknown Laplacian carrier " + std::to_string(k));
   if (!(scale > 0)) throw MeshError("carrier scale must be > 0");
   if (!(compress >= 0)) throw MeshError("carrier compression must be >= 0");
+  const bool tri = kind == LaplacianCarrier::Normal || kind == LaplacianCarrier::CotNormal ||
+                   kind == LaplacianCarrier::NormalGlobal || kind == LaplacianCarrier::CotLocal;
+  if (tri && n_tri == 0 && n_edges > 0) throw MeshError("the normal and cotangent carriers need the mesh's triangles");
+}
+
+}  // namespace
+
+LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX2iR>& E,
+                                        const Eigen::Ref<const MatrixX3iR>& T, LaplacianCarrier kind, double scale,
+                                        bool with_direction, double compress) {
+  check(kind, scale, compress, T.rows(), E.rows());
+  const Eigen::Index n = V.rows();
+  RingSums S;
+  S.acc.setZero(n, 4);
+  S.deg.setZero(n);
+  for (Eigen::Index e = 0; e < E.rows(); ++e) {  // one pass over the edges (scattered to both ends)
+    const Index a = E(e, 0), b = E(e, 1);
+    const double x = V(a, 0) - V(b, 0), y = V(a, 1) - V(b, 1), z = V(a, 2) - V(b, 2);
+    const double l = std::sqrt(x * x + y * y + z * z);
+    S.acc(a, 0) += x, S.acc(a, 1) += y, S.acc(a, 2) += z, S.acc(a, 3) += l;
+    S.acc(b, 0) -= x, S.acc(b, 1) -= y, S.acc(b, 2) -= z, S.acc(b, 3) += l;
+    ++S.deg[a], ++S.deg[b];
+  }
+  return finish(V, T, kind, scale, with_direction, compress, S);
+}
+
+LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A,
+                                        const Eigen::Ref<const MatrixX3iR>& T, LaplacianCarrier kind, double scale,
+                                        bool with_direction, double compress) {
+  check(kind, scale, compress, T.rows(), static_cast<Eigen::Index>(A.nbr.size()));
+  const Eigen::Index n = V.rows();
+  RingSums S;
+  S.acc.resize(n, 4);
+  S.deg.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {  // gathered per vertex: sequential writes
+    double x = 0, y = 0, z = 0, l = 0;
+    const double xi = V(i, 0), yi = V(i, 1), zi = V(i, 2);
+    for (Offset k = A.ptr[i]; k < A.ptr[i + 1]; ++k) {
+      const Index j = A.nbr[k];
+      const double dx = xi - V(j, 0), dy = yi - V(j, 1), dz = zi - V(j, 2);
+      x += dx, y += dy, z += dz, l += std::sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    S.acc(i, 0) = x, S.acc(i, 1) = y, S.acc(i, 2) = z, S.acc(i, 3) = l;
+    S.deg[i] = static_cast<Index>(A.ptr[i + 1] - A.ptr[i]);
+  }
+  return finish(V, T, kind, scale, with_direction, compress, S);
+}
+
+namespace {
+
+LaplacianCarrierField finish(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T,
+                             LaplacianCarrier kind, double scale, bool with_direction, double compress,
+                             const RingSums& S) {
+  const Eigen::Index n = V.rows();
   const bool local = kind != LaplacianCarrier::Thesis && kind != LaplacianCarrier::NormalGlobal;
   const bool normal = kind == LaplacianCarrier::Normal || kind == LaplacianCarrier::CotNormal ||
                       kind == LaplacianCarrier::NormalGlobal;
   const bool cot = kind == LaplacianCarrier::CotLocal || kind == LaplacianCarrier::CotNormal;
-  if ((normal || cot) && T.rows() == 0 && E.rows() > 0)
-    throw MeshError("the normal and cotangent carriers need the mesh's triangles");
-
-  // Uniform Laplacian L_i = sum_{j in N(i)} (x_i - x_j) (eqs. 7.1.2-7.1.3), valence and the sum of
-  // the incident edge lengths, in one pass over the edges.
-  MatrixX3dR L = MatrixX3dR::Zero(n, 3);
-  Eigen::VectorXd elen = Eigen::VectorXd::Zero(local ? n : 0);
-  Eigen::VectorXd deg = Eigen::VectorXd::Zero(n);
-  for (Eigen::Index e = 0; e < E.rows(); ++e) {
-    const Index a = E(e, 0), b = E(e, 1);
-    const double x = V(a, 0) - V(b, 0), y = V(a, 1) - V(b, 1), z = V(a, 2) - V(b, 2);
-    L(a, 0) += x, L(a, 1) += y, L(a, 2) += z;
-    L(b, 0) -= x, L(b, 1) -= y, L(b, 2) -= z;
-    deg[a] += 1, deg[b] += 1;
-    if (local) {
-      const double l = std::sqrt(x * x + y * y + z * z);
-      elen[a] += l, elen[b] += l;
-    }
-  }
   // Triangles: area-weighted normals, cotangent Laplacian C_i and barycentric areas A_i.
   MatrixX3dR N, C;
   Eigen::VectorXd area, W;
@@ -77,10 +122,11 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
   out.value = Eigen::VectorXd::Zero(n);
   if (with_direction) out.direction = MatrixX3dR::Zero(n, 3), out.gain = Eigen::VectorXd::Zero(n);
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (deg[i] == 0) continue;
-    const double ell = local ? elen[i] / deg[i] : scale;  // l_i, or the global unit of the thesis carrier
+    if (S.deg[i] == 0) continue;
+    const double deg = static_cast<double>(S.deg[i]);
+    const double ell = local ? S.acc(i, 3) / deg : scale;  // l_i, or the global unit of the thesis carrier
     if (!(ell > 0)) continue;
-    const Eigen::RowVector3d Li = L.row(i);
+    const Eigen::RowVector3d Li(S.acc(i, 0), S.acc(i, 1), S.acc(i, 2));
     switch (kind) {
       case LaplacianCarrier::Thesis:
       case LaplacianCarrier::Local: {
@@ -100,7 +146,7 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
         const Eigen::RowVector3d Ci = C.row(i);
         const double u = ell / area[i];
         // dC_i ~ (W_i / deg_i) dL_i when v_i moves against its 1-ring; W_i clamped (obtuse triangles)
-        const double g = deg[i] * area[i] / (ell * std::max(W[i], 0.1 * deg[i]));
+        const double g = deg * area[i] / (ell * std::max(W[i], 0.1 * deg));
         if (kind == LaplacianCarrier::CotLocal) {
           const double c = Ci.norm();
           out.value[i] = c * u;
@@ -120,5 +166,7 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
   }
   return out;
 }
+
+}  // namespace
 
 }  // namespace meshmark

@@ -323,8 +323,7 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
   if (opt.n_robust < 1) throw MeshError("n_robust must be >= 1, got " + std::to_string(opt.n_robust));
   const bool thesis_carrier = opt.carrier == LaplacianCarrier::Thesis && opt.compress == 0;
   if (!thesis_carrier && opt.thesis_exact) throw MeshError("thesis_exact uses the thesis carrier only");
-  if (!thesis_carrier && (!opt.edges || !opt.triangles))
-    throw MeshError("the Laplacian carrier needs the mesh's edges and triangles");
+  if (!thesis_carrier && !opt.triangles) throw MeshError("the Laplacian carrier needs the mesh's triangles");
   const double eps_measure = opt.thesis_exact ? opt.eps : 0.0;
   MatrixX3dR L;
   Eigen::VectorXd d;
@@ -333,7 +332,7 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     L = laplacian_coordinates(V, A, eps_measure);  // eq. 7.1.2
     d = L.rowwise().norm() / opt.scale;             // eq. 7.1.5
   } else {
-    field = laplacian_carrier(V, *opt.edges, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
+    field = laplacian_carrier(V, A, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
     d = field.value;
   }
 
@@ -369,7 +368,7 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
       // The thesis carrier is reached by the one solve (L = K X is linear). The other carriers depend
       // on the 1-ring's edge lengths and normals too: re-read and top up, as the iterative rounds do.
       if (thesis_carrier || round + 1 >= opt.max_rounds) break;
-      field = laplacian_carrier(R.V, *opt.edges, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
+      field = laplacian_carrier(R.V, A, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
       const LaplacianHistogram h = laplacian_histogram(field.value, hist.K, hist.lo, hist.hi, used);
       Eigen::VectorXd dt = field.value;
       const Selection S = select_targets(field.value, h, pairs, bits, opt, false, dt);
@@ -398,11 +397,8 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     comp_p[k] = comp[order[k]];
     mask[k] = Ap.ptr[k + 1] > Ap.ptr[k] ? 1 : 0;
   }
-  MatrixX2iR Ep;  // edges and triangles in the breadth-first numbering (carriers other than the thesis')
-  MatrixX3iR Tp;
+  MatrixX3iR Tp;  // the triangles in the breadth-first numbering (carriers other than the thesis')
   if (!thesis_carrier) {
-    Ep.resize(opt.edges->rows(), 2);
-    for (Eigen::Index e = 0; e < Ep.rows(); ++e) Ep(e, 0) = inv[(*opt.edges)(e, 0)], Ep(e, 1) = inv[(*opt.edges)(e, 1)];
     Tp.resize(opt.triangles->rows(), 3);
     for (Eigen::Index t = 0; t < Tp.rows(); ++t)
       for (int c = 0; c < 3; ++c) Tp(t, c) = inv[(*opt.triangles)(t, c)];
@@ -419,7 +415,7 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
       L = laplacian_coordinates(X, Ap, 0.0);
       d = L.rowwise().norm() / opt.scale;
     } else {
-      field = laplacian_carrier(X, Ep, Tp, opt.carrier, opt.scale, true, opt.compress);
+      field = laplacian_carrier(X, Ap, Tp, opt.carrier, opt.scale, true, opt.compress);
       d = field.value;
     }
     const LaplacianHistogram h = laplacian_histogram(d, hist.K, hist.lo, hist.hi, mask);

@@ -8,6 +8,7 @@
 // uniform scaling and vertex reordering, as the thesis requires of its carrier (§7.4.2).
 #pragma once
 #include "meshmark/mesh.h"
+#include "meshmark/vertex_adjacency.h"
 
 namespace meshmark {
 
@@ -37,6 +38,12 @@ struct LaplacianCarrierField {
 // compress > 0 bins asinh(s_i / compress) instead of s_i: linear near 0, logarithmic for |s| >> compress,
 // so that K uniform bins (eq. 7.1.6) grow with |s| (long-tailed histograms give fewer tiny pairs).
 LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX2iR>& E,
+                                        const Eigen::Ref<const MatrixX3iR>& T, LaplacianCarrier kind,
+                                        double scale = 1.0, bool with_direction = false, double compress = 0.0);
+
+// The same from the CSR adjacency (the embedding's rounds: each vertex gathers its 1-ring, no scattered
+// writes). Identical values up to the summation order.
+LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A,
                                         const Eigen::Ref<const MatrixX3iR>& T, LaplacianCarrier kind,
                                         double scale = 1.0, bool with_direction = false, double compress = 0.0);
 

@@ -49,12 +49,11 @@ struct LaplacianEmbedOptions {
   int iterations = 5;
   int max_rounds = 8;
   // The scalar that is binned (laplacian_carrier.h). Thesis: d_i = ||L_i|| / scale from the adjacency,
-  // as above. The others are computed by laplacian_carrier() from `edges` and `triangles` (the unique
-  // edges the adjacency was built from, and the mesh's triangles; both must outlive the call), and the
-  // target values are realised by changing L_i along the field's direction (eq. 7.2.19 generalised).
+  // as above. The others are computed by laplacian_carrier() from the adjacency and `triangles` (the
+  // mesh's triangles, which must outlive the call; may be empty for Local), and the target values are
+  // realised by changing L_i along the field's direction (eq. 7.2.19 generalised).
   LaplacianCarrier carrier = LaplacianCarrier::Thesis;
   double compress = 0.0;  // laplacian_carrier()'s asinh compression (0: none)
-  const Eigen::Ref<const MatrixX2iR>* edges = nullptr;
   const Eigen::Ref<const MatrixX3iR>* triangles = nullptr;
 };
 

@@ -26,8 +26,6 @@ from ..mesh import Mesh, as_mesh
 from . import framework
 
 NAME = "laplacian"
-DEFAULTS = {"K": None, "n_thr": 46, "n_robust": 5, "eps": 1e-5, "thesis_exact": False, "solver": "iterative",
-            "carrier": None}
 SOLVERS = {"iterative": 5, "direct": 0}  # PCG steps per round (docs/laplacian.md); 0 = one exact solve
 MAX_SOLVE_ROUNDS = 8  # rounds of the iterative reconstruction
 # The binned scalar (native/include/meshmark/laplacian_carrier.h, docs/carrier.md): name -> (native
@@ -39,6 +37,8 @@ MAX_SOLVE_ROUNDS = 8  # rounds of the iterative reconstruction
 CARRIERS = {"thesis": (0, 0.0, True), "local": (1, 0.0, False), "normal": (2, 0.0, False),
             "cot_local": (3, 0.0, False), "cot_normal": (4, 0.0, False), "normal_global": (5, 0.0, True)}
 DEFAULT_CARRIER = "local"  # docs/carrier.md: detected on more frames of the Blender rigs
+DEFAULTS = {"K": None, "n_thr": 46, "n_robust": 5, "eps": 1e-5, "thesis_exact": False, "solver": "iterative",
+            "carrier": DEFAULT_CARRIER}
 
 
 def carrier_of(p: dict) -> str:
@@ -120,12 +120,12 @@ class _Laplacian:
             raise MeshError(f"eps must be > 0, got {p['eps']}")
         if p["solver"] not in SOLVERS:
             raise MeshError(f"solver must be one of {', '.join(SOLVERS)}, got {p['solver']!r}")
-        if p["carrier"] is None:
-            p["carrier"] = "thesis" if p["thesis_exact"] else DEFAULT_CARRIER
         if p["carrier"] not in CARRIERS:
             raise MeshError(f"carrier must be one of {', '.join(CARRIERS)}, got {p['carrier']!r}")
-        if p["thesis_exact"] and p["carrier"] != "thesis":
-            raise MeshError(f"thesis_exact=True uses the thesis carrier; got carrier={p['carrier']!r}")
+        if p["thesis_exact"]:  # the thesis' own scalar; the default carrier is replaced, another one refused
+            if p["carrier"] not in ("thesis", DEFAULT_CARRIER):
+                raise MeshError(f"thesis_exact=True uses the thesis carrier; got carrier={p['carrier']!r}")
+            p["carrier"] = "thesis"
         return p
 
     def describe(self, p: dict) -> str:
