@@ -68,7 +68,7 @@ def test_mesh_too_small(addon, tmp_path):
 
 def test_message_longer_than_capacity(elephant, tmp_path):
     V0 = _coords(elephant)
-    err = _fails(bpy.ops.meshmark.embed, "can carry 44 bits", message="ACME 2024", key="k",
+    err = _fails(bpy.ops.meshmark.embed, "can carry 77 bits", message="ACME 2024", key="k",  # thesis carrier: 44
                  keyfile=str(tmp_path / "k.json"))
     assert "needs 88 bits" in err
     _fails(bpy.ops.meshmark.embed, "at most 31 bytes", message="x" * 40, key="k", keyfile=str(tmp_path / "k.json"))

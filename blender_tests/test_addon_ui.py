@@ -58,9 +58,10 @@ def test_panel_draws_with_and_without_a_mesh(addon):
     s = bpy.context.scene.meshmark
     assert (s.method, s.params.laplacian.K, s.params.laplacian.n_thr, s.params.laplacian.n_robust) == ("laplacian", 0, 46, 5)
     assert abs(s.params.laplacian.eps - 1e-5) < 1e-12 and s.evaluated
+    assert "carrier" in props and s.params.laplacian.carrier == "local"  # docs/carrier.md
     rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
     log = _draw(bpy.context)
-    assert ("label", "Capacity: 44 bits, message up to 3 bytes") in log
+    assert ("label", "Capacity: 77 bits, message up to 7 bytes") in log  # default carrier "local" (thesis: 44, 3)
     bpy.ops.mesh.primitive_cube_add()
     assert any(x[0] == "label" and "too small" in x[1] for x in _draw(bpy.context))  # said, not raised
 
