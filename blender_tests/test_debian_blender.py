@@ -51,7 +51,7 @@ def test_smoke_in_debian_blender_background(env):
     for deg in (0, 30, 60):
         assert f"bend {deg:2d} deg  NC 1.000  CDR 1.000  message 'M'" in text
     assert "'detected_frames': 5" in text
-    assert "Fox 1728 vertices welded to 290, 27 carriers" in text
+    assert "Fox 1728 vertices welded to 290, 34 carriers" in text
     assert "Fox at rest  CDR 1.000  message 'F'  welded 1438 copies" in text
 
 
