@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 #include <string>
 
 namespace meshmark {
@@ -14,8 +16,17 @@ namespace {
 // Per vertex: the uniform Laplacian L_i = sum_{j in N(i)} (x_i - x_j) (eqs. 7.1.2-7.1.3) and the sum of the
 // incident edge lengths, side by side (one cache line per vertex and edge end), and the valence.
 struct RingSums {
-  Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> acc;  // Lx, Ly, Lz, sum of edge lengths
-  VectorXi deg;
+  std::vector<double> buffer;  // n rows of (Lx, Ly, Lz, sum of edge lengths), rows 64-byte aligned pairs
+  double* acc = nullptr;
+  std::vector<Index> deg;
+  void zero(Eigen::Index n) {
+    buffer.assign(static_cast<size_t>(4 * n + 8), 0.0);
+    const auto addr = reinterpret_cast<std::uintptr_t>(buffer.data());
+    acc = buffer.data() + ((64 - addr % 64) % 64) / sizeof(double);  // no row straddles two cache lines
+    deg.assign(static_cast<size_t>(n), 0);
+  }
+  double* row(Eigen::Index i) { return acc + 4 * i; }
+  const double* row(Eigen::Index i) const { return acc + 4 * i; }
 };
 
 LaplacianCarrierField finish(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T,
@@ -40,14 +51,14 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
   check(kind, scale, compress, T.rows(), E.rows());
   const Eigen::Index n = V.rows();
   RingSums S;
-  S.acc.setZero(n, 4);
-  S.deg.setZero(n);
+  S.zero(n);
   for (Eigen::Index e = 0; e < E.rows(); ++e) {  // one pass over the edges (scattered to both ends)
     const Index a = E(e, 0), b = E(e, 1);
     const double x = V(a, 0) - V(b, 0), y = V(a, 1) - V(b, 1), z = V(a, 2) - V(b, 2);
     const double l = std::sqrt(x * x + y * y + z * z);
-    S.acc(a, 0) += x, S.acc(a, 1) += y, S.acc(a, 2) += z, S.acc(a, 3) += l;
-    S.acc(b, 0) -= x, S.acc(b, 1) -= y, S.acc(b, 2) -= z, S.acc(b, 3) += l;
+    double *pa = S.row(a), *pb = S.row(b);
+    pa[0] += x, pa[1] += y, pa[2] += z, pa[3] += l;
+    pb[0] -= x, pb[1] -= y, pb[2] -= z, pb[3] += l;
     ++S.deg[a], ++S.deg[b];
   }
   return finish(V, T, kind, scale, with_direction, compress, S);
@@ -58,18 +69,62 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
                                         bool with_direction, double compress) {
   check(kind, scale, compress, T.rows(), static_cast<Eigen::Index>(A.nbr.size()));
   const Eigen::Index n = V.rows();
+  if (kind == LaplacianCarrier::Thesis || kind == LaplacianCarrier::Local) {
+    // One pass, no per-vertex sums kept (the embedding calls this every round): vertices in increasing
+    // order gather L_i; each edge length is computed once (j > i) and added to both ends, so that
+    // when v_i is reached every j < i has already added its share and l_i is complete.
+    const bool local = kind == LaplacianCarrier::Local;
+    Eigen::VectorXd elen = Eigen::VectorXd::Zero(local ? n : 0);
+    LaplacianCarrierField out;
+    out.value.resize(n);
+    if (with_direction) out.direction.resize(n, 3), out.gain.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      double x = 0, y = 0, z = 0, l = 0;
+      const double xi = V(i, 0), yi = V(i, 1), zi = V(i, 2);
+      for (Offset k = A.ptr[i]; k < A.ptr[i + 1]; ++k) {
+        const Index j = A.nbr[k];
+        const double dx = xi - V(j, 0), dy = yi - V(j, 1), dz = zi - V(j, 2);
+        x += dx, y += dy, z += dz;
+        if (local && j > i) {
+          const double e = std::sqrt(dx * dx + dy * dy + dz * dz);
+          l += e;
+          elen[j] += e;
+        }
+      }
+      const double deg = static_cast<double>(A.ptr[i + 1] - A.ptr[i]);
+      const double ell = local ? (elen[i] + l) / std::max(deg, 1.0) : scale;
+      out.value[i] = 0;
+      if (with_direction) out.direction.row(i).setZero(), out.gain[i] = 0;
+      if (deg == 0 || !(ell > 0)) continue;
+      const double d = std::sqrt(x * x + y * y + z * z);  // eq. 7.1.5
+      double v = d / ell;
+      if (with_direction && d > 0) out.direction(i, 0) = x / d, out.direction(i, 1) = y / d,
+                                   out.direction(i, 2) = z / d, out.gain[i] = ell;
+      if (compress > 0) {
+        if (with_direction) out.gain[i] *= std::sqrt(v * v + compress * compress);
+        v = std::asinh(v / compress);
+      }
+      out.value[i] = v;
+    }
+    return out;
+  }
   RingSums S;
-  S.acc.resize(n, 4);
-  S.deg.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) {  // gathered per vertex: sequential writes
+  S.zero(n);
+  for (Eigen::Index i = 0; i < n; ++i) {  // L gathered per vertex; each edge length computed once (j > i)
     double x = 0, y = 0, z = 0, l = 0;
     const double xi = V(i, 0), yi = V(i, 1), zi = V(i, 2);
     for (Offset k = A.ptr[i]; k < A.ptr[i + 1]; ++k) {
       const Index j = A.nbr[k];
       const double dx = xi - V(j, 0), dy = yi - V(j, 1), dz = zi - V(j, 2);
-      x += dx, y += dy, z += dz, l += std::sqrt(dx * dx + dy * dy + dz * dz);
+      x += dx, y += dy, z += dz;
+      if (j > i) {
+        const double e = std::sqrt(dx * dx + dy * dy + dz * dz);
+        l += e;
+        S.row(j)[3] += e;
+      }
     }
-    S.acc(i, 0) = x, S.acc(i, 1) = y, S.acc(i, 2) = z, S.acc(i, 3) = l;
+    double* r = S.row(i);
+    r[0] = x, r[1] = y, r[2] = z, r[3] += l;
     S.deg[i] = static_cast<Index>(A.ptr[i + 1] - A.ptr[i]);
   }
   return finish(V, T, kind, scale, with_direction, compress, S);
@@ -124,9 +179,10 @@ LaplacianCarrierField finish(const Eigen::Ref<const MatrixX3dR>& V, const Eigen:
   for (Eigen::Index i = 0; i < n; ++i) {
     if (S.deg[i] == 0) continue;
     const double deg = static_cast<double>(S.deg[i]);
-    const double ell = local ? S.acc(i, 3) / deg : scale;  // l_i, or the global unit of the thesis carrier
+    const double* r = S.row(i);
+    const double ell = local ? r[3] / deg : scale;  // l_i, or the global unit of the thesis carrier
     if (!(ell > 0)) continue;
-    const Eigen::RowVector3d Li(S.acc(i, 0), S.acc(i, 1), S.acc(i, 2));
+    const Eigen::RowVector3d Li(r[0], r[1], r[2]);
     switch (kind) {
       case LaplacianCarrier::Thesis:
       case LaplacianCarrier::Local: {
