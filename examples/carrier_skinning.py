@@ -17,7 +17,8 @@ every frame (every --step-th frame of every action, at most --budget seconds per
     differs from the rest pose's; flip_mid: the same for the vertices that sit in the middle half of
     their bin at rest (where the embedding puts the lengths it moves: the effect of bin placement);
   * med_iqr: median |s_frame - s_rest| over the rest-pose interquartile range; med_bin: the same in
-    bin widths, p90_bin its 90th percentile; unchanged: fraction with |ds| < 1e-3 IQR (unchanged to float32 precision: Blender skins in float32).
+    bin widths, p90_bin its 90th percentile; unchanged: fraction with |ds| < 1e-3 IQR (unchanged to
+    float32 precision: Blender skins in float32).
   Bins: K of the rig's test parameters, and half and twice that (margins vs bin width).
 
 Part 2 (--pipeline): embed a one-letter message with each carrier (same K, n_thr, n_robust as the
