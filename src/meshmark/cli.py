@@ -100,6 +100,9 @@ def _method_options(f):
                      help="cho-*: strength factor (default 0.04 for cho-mean, 0.16 for cho-variance).")(f)
     f = click.option("--thesis-exact", is_flag=True, default=False,
                      help="laplacian, cho-*: run the published algorithm to the letter (no robustness fixes).")(f)
+    f = click.option("--carrier", type=click.Choice(["local", "thesis", "normal", "normal_global", "cot_local", "cot_normal"]),
+                     default=None, help="laplacian: the binned scalar (default local: ||L|| over the 1-ring's mean edge "
+                                        "length; thesis: over the global mean edge length; docs/carrier.md).")(f)
     f = click.option("--solver", type=click.Choice(["iterative", "direct"]), default=None,
                      help="laplacian: reconstruction, PCG rounds that stop when every carrier holds its margin "
                           "(default iterative) or one exact sparse solve (direct).")(f)
