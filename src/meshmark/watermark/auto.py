@@ -1,0 +1,107 @@
+"""Automatic parameters (``params="auto"``, the default of embed, the CLI and the add-on).
+
+Given the mesh and the payload, each method offers a *ladder* of parameter sets, most robust carrier
+first (:data:`LADDERS`); the first rung is the published default (``params="thesis"``). The rule is:
+
+1. the first rung whose capacity C gives the code rate 1/3 or lower (C >= 3 (k + 20) for k payload
+   bits, :mod:`.coding`): the most robust carriers that still leave the full code's redundancy;
+2. else the first rung on which the payload fits at all (C >= 1.5 (k + 20), punctured rate 2/3);
+3. else the rung with the largest capacity (embedding then refuses, naming the capacity).
+
+Parameters given explicitly (``K=...``) are kept on every rung. The choice depends only on the
+mesh, the payload length and the given parameters (deterministic), and is recorded in the keyfile
+(``choice``). Carriers of a rung cost one histogram pass on lengths computed once (the Laplacian
+lengths are cached on the mesh), so the choice adds little to an embedding (bench/laplacian_bench.py).
+
+Laplacian ladder (docs/coding.md): vertices per bin N_c = 70 (§7.4: K = ceil(N/70), n_thr = 46,
+n_robust = 5), then N_c = 35, 18, 12 with n_thr = 23, 12, 8 (the same bin occupancy relative to
+n_thr) and n_robust = 3 (a larger margin, about a third of the pair, for the smaller pairs).
+"""
+from __future__ import annotations
+
+import math
+
+from .._core import MeshError
+from . import coding
+
+MODES = ("auto", "thesis")
+
+# method -> rungs; a rung is a function (n_referenced) -> dict of parameters
+LADDERS = {
+    "laplacian": [(70, 46, 5), (35, 23, 3), (18, 12, 3), (12, 8, 3)],
+    "cho-mean": [64, 128],
+    "cho-variance": [64, 128],
+    "radial": [400],
+}
+
+
+def _rung_params(name: str, rung, n_ref: int) -> dict:
+    if name == "laplacian":
+        n_c, n_thr, n_robust = rung
+        return {"K": int(math.ceil(n_ref / n_c)), "n_thr": n_thr, "n_robust": n_robust}
+    return {"K": int(rung)}
+
+
+def _n_referenced(mesh) -> int:
+    return int(mesh.referenced().sum())
+
+
+def _evaluate(mesh, m, given: dict):
+    """Yield (rung index, params, ids, side) for the method's ladder, resolving lazily; rungs the
+    mesh cannot take (e.g. fewer vertices than bins) are skipped; MeshError if none can."""
+    n_ref = _n_referenced(mesh)
+    first_error = None
+    any_ok = False
+    for i, rung in enumerate(LADDERS.get(m.name, [None])):
+        q = {} if rung is None else _rung_params(m.name, rung, n_ref)
+        q.update({k: v for k, v in given.items() if v is not None})
+        try:
+            p = m.resolve(mesh, q)
+        except MeshError as exc:
+            first_error = first_error or exc
+            continue
+        ids, side = m.carriers(mesh, p)
+        any_ok = True
+        yield i, p, ids, side
+    if not any_ok and first_error is not None:
+        raise first_error
+
+
+def choose(mesh, m, params, method_params: dict, n_data):
+    """(params, carrier ids, side info, choice record) for method ``m`` on ``mesh``.
+
+    ``params``: "auto", "thesis", or a dict of explicit parameters (merged with ``method_params``);
+    ``n_data``: payload bits (None: no payload yet, auto returns the first rung)."""
+    given = dict(method_params)
+    if isinstance(params, dict):
+        given.update(params)
+        params = "given" if params else "auto"
+    if params not in MODES and params != "given":
+        raise MeshError(f"params must be 'auto', 'thesis' or a dict of parameters, got {params!r}")
+    if params in ("thesis", "given"):
+        p = m.resolve(mesh, given)
+        ids, side = m.carriers(mesh, p)
+        return p, ids, side, {"mode": params}
+    target = None if n_data is None else 3 * coding.info_bits(n_data)
+    need = None if n_data is None else coding.min_carriers(n_data)
+    chosen, fallback, largest, rule = None, None, None, 1
+    for cand in _evaluate(mesh, m, given):
+        c = len(cand[2])
+        if target is None or c >= target:
+            chosen = cand
+            break
+        if fallback is None and c >= need:
+            fallback = cand
+        if largest is None or c > len(largest[2]):
+            largest = cand
+    if chosen is None:
+        chosen, rule = (fallback, 2) if fallback is not None else (largest, 3)
+    best = chosen
+    i, p, ids, side = best
+    return p, ids, side, {"mode": "auto", "ladder": "v1", "rung": int(i), "rule": rule,
+                          "target_carriers": target, "capacity": int(len(ids))}
+
+
+def longest_payload_bits(mesh, m, method_params: dict) -> int:
+    """The longest payload (bits) ``params="auto"`` can embed: the largest over the ladder."""
+    return max((coding.max_data_bits(len(ids)) for _, _, ids, _ in _evaluate(mesh, m, dict(method_params))), default=0)
