@@ -385,5 +385,7 @@ def steganalysis_cho(inp, K_min, K_max, eps, eps2, as_json):
     sys.exit(0 if d["marked"] else 1)
 
 
+[main.add_command(_c) for _c in __import__("meshmark.cli_tracing", fromlist=["COMMANDS"]).COMMANDS]  # issue, trace
+
 if __name__ == "__main__":  # pragma: no cover
     main()
