@@ -133,7 +133,7 @@ def test_message_longer_than_capacity_leaves_input_unchanged(bunny):
         L.embed(bunny, payload="x" * 31, key="k", params="thesis")
     np.testing.assert_array_equal(bunny.V, V0)
     r = L.embed(bunny, payload="x" * 31, key="k")  # auto: the last rung (K = ceil(N/12), n_thr = 8) offers 446
-    assert (r.capacity, r.keyfile.params["K"], r.keyfile.choice["rung"], r.keyfile.choice["rule"]) == (446, 2903, 3, 2)
+    assert (r.capacity, r.keyfile.params["K"], r.keyfile.choice["rung"], r.keyfile.choice["rule"]) == (446, 2903, 5, 1)
 
 
 def test_too_few_carriers():
@@ -252,8 +252,8 @@ def test_cli_embed_extract_capacity(tmp_path):
     out, kf = str(tmp_path / "m.ply"), str(tmp_path / "k.json")
     e = run("embed", src, out, "--method", "laplacian", "--bits", "1011001110", "--key", "abc", "--keyfile", kf, "--json")
     assert e.returncode == 0, e.stderr
-    d = json.loads(e.stdout)  # auto: 10 + 20 bits want 90 carriers (rate 1/3); K = 2 x 286 gives them
-    assert d["capacity"] >= 90 and d["params_choice"]["mode"] == "auto" and d["params"]["K"] > 286
+    d = json.loads(e.stdout)  # auto: 10 + 20 bits need 45 carriers; the next rung (N/50 bins) has 63
+    assert d["capacity"] == 63 and d["params_choice"]["mode"] == "auto" and d["params"]["K"] == 401
     t = run("embed", src, out, "--method", "laplacian", "--bits", "101100111", "--key", "abc", "--keyfile", kf,
             "--params", "thesis", "--force", "--json")
     assert t.returncode == 0 and json.loads(t.stdout)["capacity"] == 44, t.stderr

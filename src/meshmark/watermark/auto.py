@@ -1,21 +1,25 @@
 """Automatic parameters (``params="auto"``, the default of embed, the CLI and the add-on).
 
 Given the mesh and the payload, each method offers a *ladder* of parameter sets, most robust carrier
-first (:data:`LADDERS`); the first rung is the published default (``params="thesis"``). The rule is:
+first (:data:`LADDERS`); the first rung is the published default (``params="thesis"``). The choice is
+the first rung on which the payload fits (C >= 1.5 (k + 20) carriers for k payload bits, the
+punctured rate 2/3 of :mod:`.coding`); if none fits, the rung with the largest capacity (embedding
+then refuses, naming the capacity).
 
-1. the first rung whose capacity C gives the code rate 1/3 or lower (C >= 3 (k + 20) for k payload
-   bits, :mod:`.coding`): the most robust carriers that still leave the full code's redundancy;
-2. else the first rung on which the payload fits at all (C >= 1.5 (k + 20), punctured rate 2/3);
-3. else the rung with the largest capacity (embedding then refuses, naming the capacity).
+Why "first fit" and not "most carriers": the robustness of a Laplacian carrier falls steeply with
+finer bins (docs/coding.md, "Choosing the parameters": on the Bunny, uniform noise of 5e-5 leaves CDR
+0.97 at K = ceil(N/70), n_thr = 46 and 0.68 at K = ceil(N/35), n_thr = 23), far more than the code
+gains from the extra carriers, so the coarsest bins that take the payload are the most robust choice.
 
-Parameters given explicitly (``K=...``) are kept on every rung. The choice depends only on the
-mesh, the payload length and the given parameters (deterministic), and is recorded in the keyfile
-(``choice``). Carriers of a rung cost one histogram pass on lengths computed once (the Laplacian
-lengths are cached on the mesh), so the choice adds little to an embedding (bench/laplacian_bench.py).
+Parameters given explicitly (``K=...``) are kept on every rung. The choice depends only on the mesh,
+the payload length and the given parameters (deterministic) and is recorded in the keyfile
+(``choice``). A rung costs one histogram pass on lengths computed once (cached on the mesh), and
+only rungs before the chosen one are evaluated, so the choice adds little to an embedding
+(bench/laplacian_bench.py prints the ratio).
 
-Laplacian ladder (docs/coding.md): vertices per bin N_c = 70 (§7.4: K = ceil(N/70), n_thr = 46,
-n_robust = 5), then N_c = 35, 18, 12 with n_thr = 23, 12, 8 (the same bin occupancy relative to
-n_thr) and n_robust = 3 (a larger margin, about a third of the pair, for the smaller pairs).
+Laplacian ladder: vertices per bin N_c = 70 (§7.4: K = ceil(N/70), n_thr = 46, n_robust = 5), then
+N_c = 50, 35, 25, 18, 12 with n_thr = 33, 23, 16, 12, 8 (n_thr / N_c as in the thesis) and
+n_robust = 4, 3, 3, 3, 3 (a larger relative margin for the smaller pairs).
 """
 from __future__ import annotations
 
@@ -28,7 +32,7 @@ MODES = ("auto", "thesis")
 
 # method -> rungs; a rung is a function (n_referenced) -> dict of parameters
 LADDERS = {
-    "laplacian": [(70, 46, 5), (35, 23, 3), (18, 12, 3), (12, 8, 3)],
+    "laplacian": [(70, 46, 5), (50, 33, 4), (35, 23, 3), (25, 16, 3), (18, 12, 3), (12, 8, 3)],
     "cho-mean": [64, 128],
     "cho-variance": [64, 128],
     "radial": [400],
@@ -67,11 +71,12 @@ def _evaluate(mesh, m, given: dict):
         raise first_error
 
 
-def choose(mesh, m, params, method_params: dict, n_data):
+def choose(mesh, m, params, method_params: dict, n_data, need: int = None):
     """(params, carrier ids, side info, choice record) for method ``m`` on ``mesh``.
 
     ``params``: "auto", "thesis", or a dict of explicit parameters (merged with ``method_params``);
-    ``n_data``: payload bits (None: no payload yet, auto returns the first rung)."""
+    ``n_data``: payload bits (None: no payload yet, auto returns the first rung); ``need``: the
+    carriers wanted, instead of those the payload needs (copy tracing)."""
     given = dict(method_params)
     if isinstance(params, dict):
         given.update(params)
@@ -82,24 +87,20 @@ def choose(mesh, m, params, method_params: dict, n_data):
         p = m.resolve(mesh, given)
         ids, side = m.carriers(mesh, p)
         return p, ids, side, {"mode": params}
-    target = None if n_data is None else 3 * coding.info_bits(n_data)
-    need = None if n_data is None else coding.min_carriers(n_data)
-    chosen, fallback, largest, rule = None, None, None, 1
+    if need is None:
+        need = None if n_data is None else coding.min_carriers(n_data)
+    best, largest, rule = None, None, 1
     for cand in _evaluate(mesh, m, given):
-        c = len(cand[2])
-        if target is None or c >= target:
-            chosen = cand
+        if need is None or len(cand[2]) >= need:
+            best = cand
             break
-        if fallback is None and c >= need:
-            fallback = cand
-        if largest is None or c > len(largest[2]):
+        if largest is None or len(cand[2]) > len(largest[2]):
             largest = cand
-    if chosen is None:
-        chosen, rule = (fallback, 2) if fallback is not None else (largest, 3)
-    best = chosen
+    if best is None:
+        best, rule = largest, 2
     i, p, ids, side = best
     return p, ids, side, {"mode": "auto", "ladder": "v1", "rung": int(i), "rule": rule,
-                          "target_carriers": target, "capacity": int(len(ids))}
+                          "needed_carriers": need, "capacity": int(len(ids))}
 
 
 def longest_payload_bits(mesh, m, method_params: dict) -> int:

@@ -49,7 +49,10 @@ from .framework import DETECTION_THRESHOLD, MIN_CARRIERS, _method, _weld, embed_
 from .keyfile import Keyfile
 
 SCHEMA_VERSION = "1"
-TRACE_PAYLOAD_BITS = 8  # copies use the parameters params="auto" chooses for a 1-byte payload
+# params="auto" for copies: the first rung of the ladder with at least 64 carriers (27 certify one
+# copy among 100 only when every bit reads right; 64 still certify it with 10 of the 64 bits wrong
+# among 100 copies, 7 among 10,000)
+TRACE_CARRIERS = 64
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS meta(name TEXT PRIMARY KEY, value TEXT);
@@ -175,7 +178,7 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
         found = reg.asset(sha)
         if found is None:
             from .auto import choose
-            p, cids, side, choice = choose(mesh, m, params, method_params, TRACE_PAYLOAD_BITS)
+            p, cids, side, choice = choose(mesh, m, params, method_params, None, need=TRACE_CARRIERS)
             side = dict(side)
             asset_id = None
         else:
