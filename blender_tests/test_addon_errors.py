@@ -43,6 +43,19 @@ def test_active_object_not_a_mesh(elephant, tmp_path):
     assert not (tmp_path / "k.json").exists()
 
 
+def test_existing_keyfile_is_not_overwritten_without_consent(elephant, tmp_path):
+    """issue 10 item 5: automatic parameters take "ACME 2024"; a second Embed into the same keyfile
+    fails (the dialog's confirmation sets overwrite) and changes nothing."""
+    kf = tmp_path / f"{elephant.name}.meshmark.json"
+    assert bpy.ops.meshmark.embed(message="ACME 2024", key="k", keyfile=str(kf)) == {"FINISHED"}
+    first = kf.read_text()
+    V1 = _coords(elephant)
+    _fails(bpy.ops.meshmark.embed, "already exists", message="other", key="k2", keyfile=str(kf))
+    assert kf.read_text() == first and np.array_equal(_coords(elephant), V1)
+    assert bpy.ops.meshmark.embed(message="other", key="k2", keyfile=str(kf), overwrite=True) == {"FINISHED"}
+    assert kf.read_text() != first
+
+
 def test_no_object_selected(elephant, tmp_path):
     V0 = _coords(elephant)
     elephant.select_set(False)
@@ -68,9 +81,10 @@ def test_mesh_too_small(addon, tmp_path):
 
 def test_message_longer_than_capacity(elephant, tmp_path):
     V0 = _coords(elephant)
-    err = _fails(bpy.ops.meshmark.embed, "can carry 44 bits", message="ACME 2024", key="k",
-                 keyfile=str(tmp_path / "k.json"))
-    assert "needs 88 bits" in err
+    # the thesis parameters: 44 carriers; 72 data + 20 check bits need 138
+    err = _fails(bpy.ops.meshmark.embed, "the mesh offers 44", message="ACME 2024", key="k",
+                 keyfile=str(tmp_path / "k.json"), params_mode="thesis")
+    assert "needs 138 carrier bits" in err
     _fails(bpy.ops.meshmark.embed, "at most 31 bytes", message="x" * 40, key="k", keyfile=str(tmp_path / "k.json"))
     _fails(bpy.ops.meshmark.embed, "message is empty", message="", key="k", keyfile=str(tmp_path / "k.json"))
     _fails(bpy.ops.meshmark.embed, "key is empty", message="E", key="", keyfile=str(tmp_path / "k.json"))
@@ -78,6 +92,19 @@ def test_message_longer_than_capacity(elephant, tmp_path):
            keyfile=str(tmp_path / "missing" / "k.json"))
     assert np.array_equal(_coords(elephant), V0)
     assert not (tmp_path / "k.json").exists()
+
+
+def test_existing_keyfile_is_not_overwritten_without_consent(elephant, tmp_path):
+    """issue 10 item 5: automatic parameters take "ACME 2024"; a second Embed into the same keyfile
+    fails (the dialog's confirmation sets overwrite) and changes nothing."""
+    kf = tmp_path / f"{elephant.name}.meshmark.json"
+    assert bpy.ops.meshmark.embed(message="ACME 2024", key="k", keyfile=str(kf)) == {"FINISHED"}
+    first = kf.read_text()
+    V1 = _coords(elephant)
+    _fails(bpy.ops.meshmark.embed, "already exists", message="other", key="k2", keyfile=str(kf))
+    assert kf.read_text() == first and np.array_equal(_coords(elephant), V1)
+    assert bpy.ops.meshmark.embed(message="other", key="k2", keyfile=str(kf), overwrite=True) == {"FINISHED"}
+    assert kf.read_text() != first
 
 
 def test_edit_mode_is_refused(elephant, tmp_path):

@@ -51,16 +51,20 @@ def test_panel_draws_with_and_without_a_mesh(addon):
     assert ("label", "Select a mesh object") in log
     ops = [x[1] for x in log if x[0] == "operator"]
     assert ops == ["meshmark.capacity", "meshmark.embed", "meshmark.save_keyfile", "meshmark.load_keyfile",
-                   "meshmark.verify", "meshmark.deformation_study"]
+                   "meshmark.verify", "meshmark.issue_copies", "meshmark.trace", "meshmark.deformation_study"]
     props = [x[1] for x in log if x[0] == "prop"]
-    assert props[:5] == ["method", "K", "n_thr", "n_robust", "eps"] and "message" in props and "key" in props
+    assert props[:6] == ["method", "params_mode", "K", "n_thr", "n_robust", "eps"] and "message" in props
+    assert "key" in props and bpy.context.scene.meshmark.params_mode == "auto"
     assert "weld" in props and bpy.context.scene.meshmark.weld is True
     s = bpy.context.scene.meshmark
     assert (s.method, s.params.laplacian.K, s.params.laplacian.n_thr, s.params.laplacian.n_robust) == ("laplacian", 0, 46, 5)
     assert abs(s.params.laplacian.eps - 1e-5) < 1e-12 and s.evaluated
     rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
     log = _draw(bpy.context)
-    assert ("label", "Capacity: 44 bits, message up to 3 bytes") in log
+    assert ("label", "Message up to 20 bytes (automatic parameters)") in log  # thesis: 44 carriers, 1 byte
+    s.params_mode = "thesis"
+    assert ("label", "Capacity: 44 bits, message up to 1 bytes") in _draw(bpy.context)
+    s.params_mode = "auto"
     bpy.ops.mesh.primitive_cube_add()
     assert any(x[0] == "label" and "too small" in x[1] for x in _draw(bpy.context))  # said, not raised
 

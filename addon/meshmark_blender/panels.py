@@ -28,6 +28,8 @@ def capacity_line(context, obj, settings) -> str:
             hit = (sig, operators.capacity_of(obj, method, p, settings.weld))
             operators.CAPACITY_CACHE[obj.name] = hit
         d = hit[1]
+        if settings.params_mode == "auto":
+            return f"Message up to {d['auto_max_text_bytes']} bytes (automatic parameters)"
         return f"Capacity: {d['capacity']} bits, message up to {d['max_text_bytes']} bytes"
     except Exception as exc:  # a too-small or invalid mesh: say why, never fail drawing
         return f"Capacity: {exc}"[:120]
@@ -47,6 +49,7 @@ class MESHMARK_PT_sidebar(bpy.types.Panel):
 
         col = layout.column(align=True)
         col.prop(s, "method")
+        col.prop(s, "params_mode")
         group = getattr(s.params, s.method, None)
         if group is not None:
             for p in _params.method_params(s.method):
@@ -69,6 +72,14 @@ class MESHMARK_PT_sidebar(bpy.types.Panel):
         row.prop(s, "evaluated")
         row.operator("meshmark.verify", icon="VIEWZOOM")
         _draw_result(box, s.last_result)
+
+        box = layout.box()
+        box.label(text="Copy tracing", icon="LINKED")
+        box.prop(s, "registry")
+        row = box.row(align=True)
+        row.prop(s, "copies")
+        row.operator("meshmark.issue_copies", icon="DUPLICATE")
+        box.operator("meshmark.trace", icon="VIEWZOOM")
 
         box = layout.box()
         box.label(text="Deformation study", icon="ARMATURE_DATA")
@@ -94,6 +105,9 @@ def _draw_result(layout, text: str) -> None:
                      + f"  NC {d['nc']:.3f}  CDR {d['cdr']:.3f}", icon="CHECKMARK" if d["detected"] else "CANCEL")
         if d.get("message_ok"):
             layout.label(text=f"Message: {d['message']}")
+    elif "p_false_alarm" in d and "copy" in d:
+        layout.label(text=f"Copy: {d['copy'] or 'none'}  P(false alarm) {d['p_false_alarm']:.2g}",
+                     icon="CHECKMARK" if d["copy"] else "CANCEL")
     elif "summary" in d:
         s = d["summary"]
         layout.label(text=f"{s['detected_frames']}/{s['frames']} frames detected, mean CDR {s['mean_cdr']:.3f}")

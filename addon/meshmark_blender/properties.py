@@ -15,6 +15,8 @@ from meshmark.watermark import METHODS
 from . import params as _params
 
 _ENUM_ITEMS = []  # keep the strings alive (Blender does not copy dynamic enum items)
+PARAMS_MODE_ITEMS = [("auto", "Automatic", "Choose the parameters for this mesh and message (recorded in the keyfile)"),
+                     ("thesis", "Thesis", "The published defaults")]
 
 
 def method_items(self, context):
@@ -49,6 +51,12 @@ def _build_classes():
         "__doc__": "meshmark settings of the scene (scene.meshmark)",
         "__annotations__": {
             "method": EnumProperty(name="Method", description="Watermarking method", items=method_items),
+            "params_mode": EnumProperty(name="Parameters", default="auto", items=PARAMS_MODE_ITEMS,
+                                        description="How the method's parameters are chosen (fields left at 0 / "
+                                                    "their default; values you change are kept)"),
+            "registry": StringProperty(name="Registry", default="", subtype="FILE_PATH",
+                                       description="SQLite registry of issued copies (copy tracing)"),
+            "copies": IntProperty(name="Copies", default=10, min=1, description="Copies to issue"),
             "message": StringProperty(name="Message", description="Text to hide (UTF-8, at most 31 bytes)",
                                       default="meshmark"),
             "key": StringProperty(name="Key", description="Secret key (stored in the keyfile, not in the mesh)",

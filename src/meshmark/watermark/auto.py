@@ -68,6 +68,7 @@ def _evaluate(mesh, m, given: dict):
         any_ok = True
         yield i, p, ids, side
     if not any_ok and first_error is not None:
+        m.resolve(mesh, given)  # the published defaults' own error (e.g. "the mesh is too small ...")
         raise first_error
 
 
