@@ -151,14 +151,15 @@ def part_trace(out):
         copies = tracing.issue(fd, key="studio", registry=reg, n_copies=1000)
         print(f"issued 1000 Fandisk copies in {time.perf_counter() - t:.1f} s", flush=True)
         right = sum(tracing.trace(V, fd, registry=reg)["copy"] == cid for cid, V in copies[:50])
-        rows = [{"suspect": "50 issued copies", "named": right, "wrong": 50 - right}]
+        rows = [{"suspect": "50 issued copies", "named": right, "wrong": 50 - right, "p_false_alarm": "",
+                 "matches": "", "n_carriers": ""}]
         named = 0
         n = 0
         for p in shared_meshes():
             r = tracing.trace(meshmark.read_mesh(p), registry=reg)
             named += r["copy"] is not None
             n += 1
-            rows.append({"suspect": f"{p.parent.name}/{p.name}", "named": int(r["copy"] is not None),
+            rows.append({"suspect": f"{p.parent.name}/{p.name}", "named": int(r["copy"] is not None), "wrong": "",
                          "p_false_alarm": r["p_false_alarm"], "matches": r["matches"], "n_carriers": r["n_carriers"]})
         print(f"issued copies traced right: {right}/50; unmarked meshes traced to a copy: {named} of {n}", flush=True)
     write_csv(rows, os.path.join(out, "trace.csv"))

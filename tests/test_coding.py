@@ -117,3 +117,70 @@ def test_random_soft_values_never_decode():
     rng = np.random.default_rng(4)
     hits = sum(coding.decode(rng.normal(size=120), 16, "bits", "k", "laplacian")[0] is not None for _ in range(2000))
     assert hits == 0
+
+
+# --- the framework with the new coding ---------------------------------------------------------
+import hashlib  # noqa: E402
+
+import meshmark  # noqa: E402
+from meshmark.watermark import Keyfile, embed, extract, framework, keys, laplacian as L  # noqa: E402
+from meshmark.watermark.payload import Payload, repeat_to  # noqa: E402
+
+from conftest import shared_mesh  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def fandisk():
+    return meshmark.read_mesh(shared_mesh("classic/fandisk.obj"))
+
+
+def test_auto_is_deterministic_recorded_and_thesis_is_published(fandisk):
+    a = embed(fandisk, payload="ACME", key="k")
+    b = embed(fandisk, payload="ACME", key="k")
+    assert a.keyfile.params == b.keyfile.params and np.array_equal(a.V, b.V)
+    assert a.keyfile.choice["mode"] == "auto" and a.keyfile.coding["scheme"] == coding.SCHEME
+    assert a.keyfile.coding["info_bits"] == 52 and a.capacity >= coding.min_carriers(32)
+    # ladder capacities 26, 36, 48, 69, 93, 138: 32 + 20 bits need 78, the rung K = ceil(N/18) has 93
+    assert (a.keyfile.params["K"], a.keyfile.params["n_thr"], a.keyfile.choice["rung"], a.capacity) == (360, 12, 4, 93)
+    # the thesis parameters (K = ceil(N/70) = 93, n_thr = 46) offer 26 carriers: too few for any message
+    assert framework.capacity(fandisk) == 26
+    with pytest.raises(meshmark.MeshError, match=r"offers 26 .*K=93, n_thr=46"):
+        embed(fandisk, payload=[1], key="k", params="thesis")
+    kf = Keyfile.from_dict(__import__("json").loads(a.keyfile.to_json()))  # the new fields round-trip
+    assert kf.choice == a.keyfile.choice and kf.coding == a.keyfile.coding
+
+
+def test_no_message_without_a_detection(fandisk):
+    r = embed(fandisk, payload="ACME", key="k")
+    x = extract(r.V, fandisk, keyfile=r.keyfile)
+    assert x.detected and x.message == "ACME"
+    w = extract(r.V, fandisk, keyfile=r.keyfile, key="not-k")
+    assert not w.detected and w.message is None and "no watermark detected" in w.reason
+    u = extract(fandisk, keyfile=r.keyfile)  # the unmarked original
+    assert not u.detected and u.message is None
+
+
+def test_signed_reliabilities_follow_the_bits(fandisk):
+    r = embed(fandisk, payload="ACME", key="k")
+    bits, soft = framework.read_soft(meshmark.weld_vertices(fandisk.with_vertices(r.V)).mesh, r.keyfile, "k")
+    assert np.all((soft > 0) == (bits == 1)) and np.abs(soft).min() > 0.1  # every pair holds its margin
+
+
+def test_repetition_keyfiles_are_still_read(fandisk):
+    """A keyfile of the earlier framing (scheme 'repeat': length, data, CRC-8, repeated) decodes."""
+    w = meshmark.weld_vertices(fandisk).mesh
+    p = L.METHOD.resolve(w, {})
+    ids, side = L.METHOD.carriers(w, p)
+    n = len(ids)
+    pl = Payload.from_bits("1011")
+    coded = repeat_to(pl.frame(), n)
+    white, order = keys.whitening("old", "laplacian", n), keys.permutation("old", "laplacian", n)
+    V, side, _ = framework.embed_channel(w, L.METHOD, p, side, np.asarray(ids)[order], coded ^ white)
+    bits = pl.bitstring()
+    kf = Keyfile(method="laplacian", params=p, key="old", weld=True,
+                 payload={"kind": "bits", "n_bits": 4, "bits": bits, "sha256": hashlib.sha256(bits.encode()).hexdigest()},
+                 coding={"scheme": "repeat", "frame_bits": 20, "n_coded": n},
+                 side_info={**side, "carriers": [int(c) for c in ids]}, mesh={"n_vertices": w.n_vertices})
+    kf = Keyfile.from_dict(__import__("json").loads(kf.to_json()))
+    x = extract(V, w, keyfile=kf)
+    assert x.detected and x.message == "1011" and x.cdr == 1.0

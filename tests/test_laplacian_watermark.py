@@ -140,8 +140,10 @@ def test_too_few_carriers():
     cow = meshmark.read_mesh(shared_mesh("classic/cow.obj"))
     with pytest.raises(MeshError, match=r"offers only 6 carrier bits .*at least 8 are needed"):
         L.embed(cow, payload="1", key="k", params="thesis")
-    with pytest.raises(MeshError, match=r"needs 42 carrier bits .* offers 40 .*at most 6 payload bits fit"):
-        L.embed(cow, payload="1", key="k")  # auto: 40 carriers with K = 242, n_thr = 8
+    r = L.embed(cow, payload="1", key="k")  # auto: 8 + 20 bits need 42; K = ceil(N/8) = 363, n_thr = 5 offers 61
+    assert (r.capacity, r.keyfile.params["K"], r.keyfile.params["n_thr"]) == (61, 363, 5)
+    with pytest.raises(MeshError, match=r"needs 282 carrier bits .* offers 166 .*at most 90 payload bits fit"):
+        L.embed(cow, payload="x" * 21, key="k")  # the ladder's largest capacity: 166 (K = 968, n_thr = 2)
     with pytest.raises(MeshError, match="K must be at least 4"):
         L.capacity(cow, K=2)
     with pytest.raises(MeshError, match="unknown parameter"):
