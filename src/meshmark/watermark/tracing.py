@@ -45,7 +45,7 @@ from .._core import MeshError
 from ..mesh import as_mesh
 from ..metrics import false_alarm_probability
 from . import keys as _keys
-from .framework import DETECTION_THRESHOLD, MIN_CARRIERS, _method, _weld, embed_channel
+from .framework import DETECTION_THRESHOLD, MAX_ROUNDS, MIN_CARRIERS, _method, _weld, embed_channel
 from .keyfile import Keyfile
 
 SCHEMA_VERSION = "1"
@@ -204,10 +204,20 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
             Vm, s_j, _ = embed_channel(mesh, m, p, dict(trace_side or side), carriers, cw ^ white)
             if trace_side is None:
                 trace_side = s_j  # the first copy's side information serves every copy
-            got, _ = m.extract(mesh.with_vertices(Vm), p, trace_side, carriers)
-            bad = int((got != (cw ^ white)).sum())
-            if bad:
-                raise MeshError(f"copy {cid}: {bad} of {C} carrier bits do not read back with the shared side "
+            # every copy must read back with the one side information kept for the asset: re-embed the
+            # carriers that do not (the marked mesh's scale differs slightly from copy to copy)
+            ch = cw ^ white
+            for _ in range(MAX_ROUNDS):
+                got, _ = m.extract(mesh.with_vertices(Vm), p, trace_side, carriers)
+                bad = np.flatnonzero(got != ch)
+                if bad.size == 0:
+                    break
+                Vm, _, _ = m.embed(mesh.with_vertices(Vm), p, dict(trace_side), carriers[bad], ch[bad])
+            else:
+                got, _ = m.extract(mesh.with_vertices(Vm), p, trace_side, carriers)
+                bad = np.flatnonzero(got != ch)
+            if bad.size:
+                raise MeshError(f"copy {cid}: {bad.size} of {C} carrier bits do not read back with the shared side "
                                 "information; nothing was recorded")
             out.append((cid, w.scatter(Vm) if w is not None else Vm))
             rows.append((cid, np.packbits(cw).tobytes()))
