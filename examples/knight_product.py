@@ -56,6 +56,10 @@ def main(argv=None):
     ap.add_argument("--out", default=os.path.join(HERE, "out", "knight"))
     ap.add_argument("--params", default="", help="explicit parameters as JSON (default: automatic)")
     ap.add_argument("--no-trace", action="store_true")
+    ap.add_argument("--no-mark", action="store_true")
+    ap.add_argument("--trace-carriers", type=int, default=tracing.TRACE_CARRIERS)
+    ap.add_argument("--trace-copies", type=int, default=10)
+    ap.add_argument("--trace-step", type=int, default=4)
     a = ap.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
     skinned, rig = _import_knight()
@@ -67,6 +71,9 @@ def main(argv=None):
 
     t = time.perf_counter()
     import json
+    tracing.TRACE_CARRIERS = a.trace_carriers
+    if a.no_mark:
+        return trace_part(a, knight, rig, base, co0)
     r = embed(base, payload=a.message, key="knight", **(json.loads(a.params) if a.params else {}))
     bridge.apply_displacement(knight, r.V - base.V)
     print(f"embedded {a.message!r}: {r.capacity} carriers, params {r.keyfile.params}, choice {r.keyfile.choice}",
@@ -85,30 +92,49 @@ def main(argv=None):
 
     if a.no_trace:
         return 0
-    knight.data.vertices.foreach_set("co", co0.ravel())  # back to the unmarked base
+    return trace_part(a, knight, rig, base, co0)
+
+
+def _restore(knight, co0):
+    knight.data.vertices.foreach_set("co", co0.ravel())
     if knight.data.shape_keys is not None:
         for kb in knight.data.shape_keys.key_blocks:
             kb.data.foreach_set("co", co0.ravel())
     knight.data.update()
+
+
+def trace_part(a, knight, rig, base, co0):
+    """100 copies issued; the first --trace-copies of them applied in turn and traced at every
+    --trace-step-th frame of every action; the unmarked Knight traced too."""
+    _restore(knight, co0)  # back to the unmarked base
     t = time.perf_counter()
+    rows = []
     with tempfile.TemporaryDirectory() as tmp:
         reg = os.path.join(tmp, "r.sqlite")
-        copies = dict(tracing.issue(base, key="studio", registry=reg, n_copies=100))
+        copies = tracing.issue(base, key="studio", registry=reg, n_copies=100)
         with tracing.Registry(reg) as R:
             (_, setup, C), = R.assets()
         none_rows = play(knight, rig, max(a.step, 4), lambda m: tracing.trace(m, registry=reg))
-        bridge.apply_displacement(knight, copies["0037"] - base.V)
-        trows = play(knight, rig, a.step, lambda m: tracing.trace(m, registry=reg))
-    right = np.mean([x["copy"] == "0037" for _, _, x in trows])
-    wrongc = sum(x["copy"] not in (None, "0037") for _, _, x in trows)
+        for cid, V in copies[:a.trace_copies]:
+            _restore(knight, co0)
+            bridge.apply_displacement(knight, V - base.V)
+            rows += [(cid, act, fr, x) for act, fr, x in
+                     play(knight, rig, a.trace_step, lambda m: tracing.trace(m, registry=reg))]
+    right = np.mean([x["copy"] == cid for cid, _, _, x in rows])
+    per_copy = {}
+    for cid, _, _, x in rows:
+        per_copy.setdefault(cid, []).append(x["copy"] == cid)
+    wrongc = sum(x["copy"] not in (None, cid) for cid, _, _, x in rows)
     none_named = sum(x["copy"] is not None for _, _, x in none_rows)
-    print(f"tracing: {C} carriers ({setup['params']}), copy 0037 of 100 named on {100 * right:.1f} % of "
-          f"{len(trows)} frames, a wrong copy on {wrongc}; unmarked Knight named a copy on {none_named} of "
-          f"{len(none_rows)} frames ({time.perf_counter() - t:.0f} s)", flush=True)
+    print(f"tracing: {C} carriers ({setup['params']}), {a.trace_copies} of 100 copies each applied and traced on "
+          f"every {a.trace_step}th frame: right copy on {100 * right:.1f} % of {len(rows)} frames (per copy "
+          f"{', '.join(f'{100 * np.mean(v):.0f}' for v in per_copy.values())} %), a wrong copy on {wrongc}; "
+          f"unmarked Knight named a copy on {none_named} of {len(none_rows)} frames ({time.perf_counter() - t:.0f} s)",
+          flush=True)
     with open(os.path.join(a.out, "trace.csv"), "w") as f:
-        f.write("action,frame,copy,p_false_alarm,matches,n_carriers\n")
-        for act, fr, x in trows:
-            f.write(f"{act},{fr},{x['copy']},{x['p_false_alarm']:.3g},{x['matches']},{x['n_carriers']}\n")
+        f.write("copy,action,frame,named,p_false_alarm,matches,n_carriers\n")
+        for cid, act, fr, x in rows:
+            f.write(f"{cid},{act},{fr},{x['copy']},{x['p_false_alarm']:.3g},{x['matches']},{x['n_carriers']}\n")
     return 0
 
 
