@@ -61,7 +61,7 @@ def test_panel_draws_with_and_without_a_mesh(addon):
     assert abs(s.params.laplacian.eps - 1e-5) < 1e-12 and s.evaluated
     rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
     log = _draw(bpy.context)
-    assert ("label", "Message up to 20 bytes (automatic parameters)") in log  # thesis: 44 carriers, 1 byte
+    assert ("label", "Message up to 31 bytes (automatic parameters)") in log  # the 31-byte cap; thesis: 1 byte
     s.params_mode = "thesis"
     assert ("label", "Capacity: 44 bits, message up to 1 bytes") in _draw(bpy.context)
     s.params_mode = "auto"
