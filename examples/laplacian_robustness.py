@@ -18,7 +18,8 @@ import numpy as np
 import meshmark
 from meshmark import attacks as A
 from meshmark.watermark import laplacian as L
-from meshmark.watermark.payload import OVERHEAD_BITS, Payload
+from meshmark.watermark.coding import max_data_bits
+from meshmark.watermark.payload import Payload
 
 SHARED = pathlib.Path(__file__).resolve().parents[2] / "shared" / "meshes"
 
@@ -48,8 +49,10 @@ def main():
         cap = L.capacity(m)
         for seed in range(a.seeds):
             rng = np.random.default_rng(seed)
-            nb = min(16, cap - OVERHEAD_BITS)
-            r = L.embed(m, payload=Payload.from_bits(rng.integers(0, 2, nb)), key=f"seed-{seed}")
+            nb = min(16, max_data_bits(cap))
+            if nb < 1:
+                break
+            r = L.embed(m, payload=Payload.from_bits(rng.integers(0, 2, nb)), key=f"seed-{seed}", params="thesis")
             marked = m.with_vertices(r.V)
             for name, _, fn in ATTACK_LIST:
                 x = L.extract(fn(marked, seed), keyfile=r.keyfile)
