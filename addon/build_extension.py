@@ -2,10 +2,13 @@
 
     python addon/build_extension.py                 # builds the wheel (pip wheel .) then the zip
     python addon/build_extension.py --wheel W.whl   # use an existing meshmark wheel
+    python addon/build_extension.py --legacy        # dist/meshmark_blender-<version>-legacy.zip only
 
 Output: dist/meshmark-<version>.zip (install in Blender 4.2+: Edit > Preferences > Get Extensions >
 (menu) Install from Disk..., or `blender --command extension install-file -r user_default <zip>`).
-The manifest is validated, and the zip built, by Blender's own extension tool (`blender_ext.py`, the
+The legacy zip (Blender < 4.2: Edit > Preferences > Add-ons > Install..., or
+`bpy.ops.preferences.addon_install`) holds the package folder `meshmark_blender/` and no wheel: the
+older Blender's Python must import meshmark itself (e.g. PYTHONPATH). The manifest is validated, and the zip built, by Blender's own extension tool (`blender_ext.py`, the
 code behind `blender --command extension validate|build`), found in the bpy module or a Blender
 binary; without either the zip is built with zipfile and only the TOML is parsed.
 """
@@ -60,6 +63,21 @@ def platform_of(wheel: str) -> str:
     raise SystemExit(f"build_extension: unknown wheel platform {tag}")
 
 
+def legacy_zip(out: str) -> str:
+    """The legacy add-on zip (``meshmark_blender/`` with ``bl_info``, no wheel): its path."""
+    m = tomllib.loads(open(os.path.join(SRC, "blender_manifest.toml"), encoding="utf-8").read())
+    path = os.path.join(out, f"meshmark_blender-{m['version']}-legacy.zip")
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        for d, dirs, files in os.walk(SRC):
+            dirs[:] = [x for x in dirs if x not in ("__pycache__", "wheels")]
+            for f in files:
+                if f.endswith(".pyc") or f == "blender_manifest.toml":
+                    continue
+                p = os.path.join(d, f)
+                z.write(p, os.path.join("meshmark_blender", os.path.relpath(p, SRC)))
+    return path
+
+
 CHECK = """
 import sys
 sys.path[:] = [p for p in sys.path if p] + [{sp!r}]
@@ -97,8 +115,13 @@ def main(argv=None):
     ap.add_argument("--check", action="store_true",
                     help="install the zip into a temporary Blender user directory and run an operator")
     ap.add_argument("--out", default=os.path.join(ROOT, "dist"), help="output directory (default dist/)")
+    ap.add_argument("--legacy", action="store_true",
+                    help="build only the legacy add-on zip for Blender < 4.2 (no wheel)")
     a = ap.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
+    if a.legacy:
+        print(f"build_extension: {legacy_zip(a.out)}")
+        return 0
     wheel = os.path.abspath(a.wheel) if a.wheel else build_wheel(os.path.join(ROOT, "build", "ext-wheels"))
     with tempfile.TemporaryDirectory() as tmp:
         stage = os.path.join(tmp, "meshmark")

@@ -71,20 +71,35 @@ def test_mesh_too_small(addon, tmp_path):
     bpy.ops.mesh.primitive_cube_add()
     cube = bpy.context.active_object
     V0 = _coords(cube)
-    _fails(bpy.ops.meshmark.embed, "too small", message="x", key="k", keyfile=str(tmp_path / "k.json"))
+    # in the user's words, with the parameters named as the panel names them
+    _fails(bpy.ops.meshmark.embed, "^Error: meshmark: mesh too small to carry a mark", message="x", key="k",
+           keyfile=str(tmp_path / "k.json"))
+    err = _fails(bpy.ops.meshmark.embed, "mesh too small to carry a mark", message="x", key="k", K=4, n_thr=1,
+                 keyfile=str(tmp_path / "k.json"))  # the cube's Laplacian lengths are all equal
+    assert "Laplacian" not in err and "range" not in err
+    err = _fails(bpy.ops.meshmark.embed, "mesh too small to carry a mark: 8 vertices for 64 Bins", method="cho-mean",
+                 message="x", key="k", keyfile=str(tmp_path / "k.json"))
     bpy.ops.mesh.primitive_uv_sphere_add()
     sphere = bpy.context.active_object
     S0 = _coords(sphere)
-    _fails(bpy.ops.meshmark.embed, "offers only", message="x", key="k", keyfile=str(tmp_path / "k.json"))
+    err = _fails(bpy.ops.meshmark.embed, "mesh too small to carry a mark: it offers only", message="x", key="k",
+                 keyfile=str(tmp_path / "k.json"))
+    # Settings: Auto walks the ladder down to its last rung: 5 carriers at Bins 161, Min. pair size 2
+    assert "offers only 5 of the 8 bits" in err and "(Bins 161, Min. pair size 2)" in err and "n_thr" not in err and "K=" not in err
+    _fails(bpy.ops.meshmark.embed, "Min. pair size must be", message="x", key="k", K=20, n_thr=0,
+           keyfile=str(tmp_path / "k.json"))
     assert np.array_equal(_coords(cube), V0) and np.array_equal(_coords(sphere), S0)
+    assert not (tmp_path / "k.json").exists()
 
 
 def test_message_longer_than_capacity(elephant, tmp_path):
     V0 = _coords(elephant)
-    # the thesis parameters: 44 carriers; 72 data + 20 check bits need 138
-    err = _fails(bpy.ops.meshmark.embed, "the mesh offers 44", message="ACME 2024", key="k",
+    # the thesis parameters (Settings: Custom, or params_mode="thesis"): 44 carriers; 72 data + 20 check
+    # bits need 138 (docs/coding.md)
+    err = _fails(bpy.ops.meshmark.embed, "the mesh can carry 44 bits", message="ACME 2024", key="k",
                  keyfile=str(tmp_path / "k.json"), params_mode="thesis")
-    assert "needs 138 carrier bits" in err
+    assert "needs 138 bits" in err and "(Bins 286, Min. pair size 46)" in err and "at most 1 bytes of text fit" in err
+    assert err.startswith("message too long for this mesh")
     _fails(bpy.ops.meshmark.embed, "at most 31 bytes", message="x" * 40, key="k", keyfile=str(tmp_path / "k.json"))
     _fails(bpy.ops.meshmark.embed, "message is empty", message="", key="k", keyfile=str(tmp_path / "k.json"))
     _fails(bpy.ops.meshmark.embed, "key is empty", message="E", key="", keyfile=str(tmp_path / "k.json"))

@@ -98,7 +98,7 @@ def test_fox(addon, tmp_path):
     kf = str(tmp_path / "fox.json")
     # default (automatic) parameters: the ladder's largest capacity is 24 carriers (K=97, n_thr=2), too
     # few for a letter (8 + 20 check bits need 42): refused, nothing changed
-    with pytest.raises(RuntimeError, match="offers 24 .*at most 0 payload bits"):
+    with pytest.raises(RuntimeError, match="needs 42 bits, the mesh can carry 24 bits .*not even one letter fits"):
         bpy.ops.meshmark.embed(message="F", key="fox", keyfile=kf)
     # one bit (1 + 20 check bits need 32 carriers): K=100, n_thr=1, n_robust=1 give 32
     assert bpy.ops.meshmark.embed(bits="1", key="fox", keyfile=kf, K=100, n_thr=1, n_robust=1) == {"FINISHED"}

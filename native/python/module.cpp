@@ -14,5 +14,8 @@ PYBIND11_MODULE(_core, m) {
   meshmark::python::bind_attacks(m);
   meshmark::python::bind_metrics(m);
   meshmark::python::bind_radial(m);
+  meshmark::python::bind_analysis(m);
+  meshmark::python::bind_stego(m);
+  meshmark::python::bind_steganalysis(m);
   meshmark::python::bind_coding(m);
 }

@@ -361,9 +361,12 @@ def steganalysis():
 @click.option("--k-min", "K_min", type=int, default=1, show_default=True, help="Smallest bin number tried.")
 @click.option("--k-max", "K_max", type=int, default=500, show_default=True, help="Largest bin number tried.")
 @click.option("--eps", type=float, default=0.15, show_default=True, help="eq. 6.4.16 tolerance.")
-@click.option("--eps2", type=float, default=0.03, show_default=True, help="eq. 6.4.17 balance tolerance.")
+@click.option("--eps2", type=float, default=0.03, show_default=True, help="eq. 6.4.17 balance tolerance (with --thesis-exact).")
+@click.option("--thesis-exact", is_flag=True, help="Literal eq. 6.4.17 instead of the binomial balance test.")
+@click.option("--false-reject", type=float, default=0.01, show_default=True,
+              help="Balance test: rate at which random-message marks are rejected.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def steganalysis_cho(inp, K_min, K_max, eps, eps2, as_json):
+def steganalysis_cho(inp, K_min, K_max, eps, eps2, thesis_exact, false_reject, as_json):
     """Does IN carry a watermark of Cho et al.'s mean method? (thesis §6.4)
 
     Exit status: 0 marked, 1 not marked, 2 error.
@@ -372,17 +375,28 @@ def steganalysis_cho(inp, K_min, K_max, eps, eps2, as_json):
     from .steganalysis.cho import analyze
 
     mesh = read_mesh(inp)
-    r = analyze(mesh, K_min=K_min, K_max=K_max, eps=eps, eps2=eps2)
+    r = analyze(mesh, K_min=K_min, K_max=K_max, eps=eps, eps2=eps2, thesis_exact=thesis_exact,
+                false_reject=false_reject)
     d = {"input": inp, "k_estimate": int(r["k_estimate"]), "bhattacharyya": float(r["bhattacharyya"]),
          "marked": bool(r["marked"]), "eq_6_4_16": bool(r["eq_6_4_16"]), "eq_6_4_17": bool(r["eq_6_4_17"]),
          "min_C": float(r["min_C"]), "max_Ctilde": float(r["max_Ctilde"]), "size_C": int(r["size_C"]),
-         "size_Ctilde": int(r["size_Ctilde"])}
+         "size_Ctilde": int(r["size_Ctilde"]), "balance_test": bool(r["balance_test"]),
+         "p_balance": float(r["p_balance"]), "thesis_exact": bool(thesis_exact)}
+    rule = "(literal eq. 6.4.17)" if thesis_exact else f"(binomial, p = {d['p_balance']:.3g})"
     text = (f"{inp}: {'MARKED' if d['marked'] else 'clean'} (Cho mean method)\n"
             f"estimated bins K' = {d['k_estimate']}  Bhattacharyya D = {d['bhattacharyya']:.4g}\n"
             f"clusters {d['size_C']} / {d['size_Ctilde']}, min C {d['min_C']:.4f}, max C~ {d['max_Ctilde']:.4f}; "
-            f"eq. 6.4.16 {'holds' if d['eq_6_4_16'] else 'fails'}, eq. 6.4.17 {'holds' if d['eq_6_4_17'] else 'fails'}")
+            f"eq. 6.4.16 {'holds' if d['eq_6_4_16'] else 'fails'}, eq. 6.4.17 {'holds' if d['eq_6_4_17'] else 'fails'}; "
+            f"balance rule {rule} {'holds' if d['balance_test'] else 'fails'}")
     _emit(d, as_json, text)
     sys.exit(0 if d["marked"] else 1)
+
+from .stego.cli import stego as _stego_cli; main.add_command(_stego_cli)  # noqa: E402  (meshmark stego ...)
+
+
+from .analysis.cli import analyze; main.add_command(analyze)  # noqa: E402,E702  (thesis ch. 3-5)
+
+from .steganalysis.cli import add_commands as _steganalysis_commands; _steganalysis_commands(steganalysis)  # noqa: E402,E702
 
 
 [main.add_command(_c) for _c in __import__("meshmark.cli_tracing", fromlist=["COMMANDS"]).COMMANDS]  # issue, trace
