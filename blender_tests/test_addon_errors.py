@@ -43,6 +43,19 @@ def test_active_object_not_a_mesh(elephant, tmp_path):
     assert not (tmp_path / "k.json").exists()
 
 
+def test_existing_keyfile_is_not_overwritten_without_consent(elephant, tmp_path):
+    """issue 10 item 5: automatic parameters take "ACME 2024"; a second Embed into the same keyfile
+    fails (the dialog's confirmation sets overwrite) and changes nothing."""
+    kf = tmp_path / f"{elephant.name}.meshmark.json"
+    assert bpy.ops.meshmark.embed(message="ACME 2024", key="k", keyfile=str(kf)) == {"FINISHED"}
+    first = kf.read_text()
+    V1 = _coords(elephant)
+    _fails(bpy.ops.meshmark.embed, "already exists", message="other", key="k2", keyfile=str(kf))
+    assert kf.read_text() == first and np.array_equal(_coords(elephant), V1)
+    assert bpy.ops.meshmark.embed(message="other", key="k2", keyfile=str(kf), overwrite=True) == {"FINISHED"}
+    assert kf.read_text() != first
+
+
 def test_no_object_selected(elephant, tmp_path):
     V0 = _coords(elephant)
     elephant.select_set(False)
@@ -71,7 +84,8 @@ def test_mesh_too_small(addon, tmp_path):
     S0 = _coords(sphere)
     err = _fails(bpy.ops.meshmark.embed, "mesh too small to carry a mark: it offers only", message="x", key="k",
                  keyfile=str(tmp_path / "k.json"))
-    assert "offers only 0 of the 8 bits" in err and "(Bins 7, Min. pair size 46)" in err and "n_thr" not in err and "K=" not in err
+    # Settings: Auto walks the ladder down to its last rung: 5 carriers at Bins 161, Min. pair size 2
+    assert "offers only 5 of the 8 bits" in err and "(Bins 161, Min. pair size 2)" in err and "n_thr" not in err and "K=" not in err
     _fails(bpy.ops.meshmark.embed, "Min. pair size must be", message="x", key="k", K=20, n_thr=0,
            keyfile=str(tmp_path / "k.json"))
     assert np.array_equal(_coords(cube), V0) and np.array_equal(_coords(sphere), S0)
@@ -80,9 +94,11 @@ def test_mesh_too_small(addon, tmp_path):
 
 def test_message_longer_than_capacity(elephant, tmp_path):
     V0 = _coords(elephant)
-    err = _fails(bpy.ops.meshmark.embed, "can carry 77 bits", message="ACME 2024", key="k",  # thesis carrier: 44
-                 keyfile=str(tmp_path / "k.json"))
-    assert "needs 88 bits" in err and "(Bins 286, Min. pair size 46)" in err and "at most 7 bytes of text fit" in err
+    # the thesis parameters (Settings: Custom, or params_mode="thesis"): 44 carriers; 72 data + 20 check
+    # bits need 138 (docs/coding.md)
+    err = _fails(bpy.ops.meshmark.embed, "the mesh can carry 44 bits", message="ACME 2024", key="k",
+                 keyfile=str(tmp_path / "k.json"), params_mode="thesis")
+    assert "needs 138 bits" in err and "(Bins 286, Min. pair size 46)" in err and "at most 1 bytes of text fit" in err
     assert err.startswith("message too long for this mesh")
     _fails(bpy.ops.meshmark.embed, "at most 31 bytes", message="x" * 40, key="k", keyfile=str(tmp_path / "k.json"))
     _fails(bpy.ops.meshmark.embed, "message is empty", message="", key="k", keyfile=str(tmp_path / "k.json"))
@@ -91,6 +107,19 @@ def test_message_longer_than_capacity(elephant, tmp_path):
            keyfile=str(tmp_path / "missing" / "k.json"))
     assert np.array_equal(_coords(elephant), V0)
     assert not (tmp_path / "k.json").exists()
+
+
+def test_existing_keyfile_is_not_overwritten_without_consent(elephant, tmp_path):
+    """issue 10 item 5: automatic parameters take "ACME 2024"; a second Embed into the same keyfile
+    fails (the dialog's confirmation sets overwrite) and changes nothing."""
+    kf = tmp_path / f"{elephant.name}.meshmark.json"
+    assert bpy.ops.meshmark.embed(message="ACME 2024", key="k", keyfile=str(kf)) == {"FINISHED"}
+    first = kf.read_text()
+    V1 = _coords(elephant)
+    _fails(bpy.ops.meshmark.embed, "already exists", message="other", key="k2", keyfile=str(kf))
+    assert kf.read_text() == first and np.array_equal(_coords(elephant), V1)
+    assert bpy.ops.meshmark.embed(message="other", key="k2", keyfile=str(kf), overwrite=True) == {"FINISHED"}
+    assert kf.read_text() != first
 
 
 def test_edit_mode_is_refused(elephant, tmp_path):

@@ -42,14 +42,14 @@ def _no_truncation(drawn):
 def test_panels_draw_with_and_without_a_mesh(addon):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     from meshmark_blender import panels
-    # Watermark and Study today; Trace copies waits for meshmark.issue_copies / meshmark.trace
-    assert [c.bl_label for c in panels._registered] == ["Meshmark", "Watermark", "Study"]
+    # Watermark, Trace copies (meshmark.issue_copies / meshmark.trace are registered) and Study
+    assert [c.bl_label for c in panels._registered] == ["Meshmark", "Watermark", "Trace copies", "Study"]
     assert panels.MESHMARK_PT_trace.needs == ("meshmark.issue_copies", "meshmark.trace")
     assert all(c.bl_parent_id == "MESHMARK_PT_sidebar" for c in panels.SUBPANELS)
     d = _draw(bpy.context)
     assert "Select a mesh object" in _texts({"m": d["Meshmark"]})
     assert _ops(d) == ["meshmark.load_keyfile", "meshmark.save_keyfile", "meshmark.capacity", "meshmark.embed",
-                       "meshmark.verify", "meshmark.deformation_study"]
+                       "meshmark.verify", "meshmark.issue_copies", "meshmark.trace", "meshmark.deformation_study"]
     props = [i.detail for items in d.values() for i in items if i.kind == "prop"]
     assert props.count("keyfile") == 1  # one keyfile field
     assert {"method", "message", "key", "evaluated", "show_advanced", "frame_start", "output_dir"} <= set(props)
@@ -60,9 +60,14 @@ def test_panels_draw_with_and_without_a_mesh(addon):
     _no_truncation(d)
     rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
     d = _draw(bpy.context)
-    assert ["Capacity 77 bits", "Fits 7 bytes of text"] == [t for t in _texts(d, "label") if "apacity" in t or "Fits" in t]
+    # Settings: Auto (the default) shows the longest text the automatic choice takes (the 31-byte cap
+    # here); Custom shows the fields' capacity (thesis defaults: 44 carriers, 1 byte with the keyed check)
+    assert ["Automatic settings", "Fits 31 bytes of text"] == [t for t in _texts(d, "label") if "utomatic" in t or "Fits" in t]
     _no_truncation(d)
-    assert s.params.laplacian.carrier == "local"  # docs/carrier.md (thesis carrier: 44 bits, 3 bytes)
+    s.param_mode = "CUSTOM"
+    d = _draw(bpy.context)
+    assert ["Capacity 44 bits", "Fits 1 byte of text"] == [t for t in _texts(d, "label") if "apacity" in t or "Fits" in t]
+    s.param_mode = "AUTO"
     bpy.ops.mesh.primitive_cube_add()
     assert "Mesh too small to" in _texts(_draw(bpy.context), "label")  # said (wrapped), not raised
 
@@ -191,7 +196,8 @@ def test_every_result_and_capacity_text_fits(addon, tmp_path, monkeypatch):
     assert {"Marked", "77 bits in the mesh", "Capacity not counted"} <= set(_texts(d, "label"))
     _no_truncation(d)
     with pytest.raises(RuntimeError):
-        bpy.ops.meshmark.embed(message="a much longer text", key="k", keyfile=str(tmp_path / "k.json"))
+        bpy.ops.meshmark.embed(message="a much longer text", key="k", keyfile=str(tmp_path / "k.json"),
+                               params_mode="thesis", overwrite=True)  # consent given: it fails on the length
     d = _draw(bpy.context)
     err = last_result()["error"]
     labels = _texts(d, "label")

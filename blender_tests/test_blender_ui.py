@@ -71,18 +71,21 @@ def test_panel_in_a_blender_34_window(tmp_path):
     # the tab opened (by clicks on it) at the default sidebar width, and the UI drew every panel
     opened = steps["open"]
     assert opened["region"][2] == 229 and r["tab_clicks"] < 80
-    assert set(opened["panels"]) == {"Meshmark", "Watermark", "Study"}
+    assert set(opened["panels"]) == {"Meshmark", "Watermark", "Trace copies", "Study"}
     for s in steps.values():
         for name, d in s["panels"].items():
             assert d["count"] >= 1 and d["region_width"] == 229, (s["step"], name)
             assert d["truncated"] == [], (s["step"], name, d["truncated"])  # nothing wider than its place
     labels = {k: [i[1] for i in d["items"]] for k, d in opened["panels"].items()}
-    assert {"Method", "Message", "Key", "Capacity 82 bits", "Embed", "Verify", "Check as posed"} <= set(labels["Watermark"])
+    # Settings: Auto: the panel says how much text the automatic choice takes (docs/coding.md)
+    assert {"Method", "Message", "Key", "Automatic settings", "Embed", "Verify", "Check as posed"} <= set(labels["Watermark"])
+    assert {"Issue", "Trace"} <= set(labels["Trace copies"])
     assert labels["Meshmark"].count("Keyfile") == 1 and {"Start 1", "Run study"} <= set(labels["Study"])
 
     # Embed and Verify pressed in the sidebar: the panel's values, the result in the panel
     w = steps["watermark"]
-    assert (w["embed"], w["verify"], w["stored_cdr"], w["capacity"]) == (["FINISHED"], ["FINISHED"], 1.0, 82)
+    # automatic settings: 48 carriers for 'M' (42 needed with the keyed check, docs/coding.md)
+    assert (w["embed"], w["verify"], w["stored_cdr"], w["capacity"]) == (["FINISHED"], ["FINISHED"], 1.0, 48)
     assert (w["detected"], w["cdr"], w["message"], w["keyfile_written"]) == (True, 1.0, "M", True)
     assert {"Mark found", "Bits matching 100.0%", "Message: M"} <= {i[1] for i in w["panels"]["Watermark"]["items"]}
 

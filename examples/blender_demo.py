@@ -179,22 +179,6 @@ def result():
     return json.loads(bpy.context.scene.meshmark.last_result)
 
 
-def fit_params(obj, message: str) -> dict:
-    """Thesis defaults if the message fits, else finer bins (said on the console)."""
-    need = 8 * len(message.encode()) + 16
-    for params in ({}, {"K": "2x", "n_thr": 23, "n_robust": 3}, {"K": "4x", "n_thr": 12, "n_robust": 3}):
-        p = dict(params)
-        if "K" in p:
-            p["K"] = int(math.ceil(len(obj.data.vertices) / 70)) * int(p["K"][0])
-        select_only(obj)
-        bpy.ops.meshmark.capacity(method="laplacian", **p)
-        cap = result()["capacity"]
-        log(f"capacity with {p or 'thesis defaults'}: {cap} bits (the message needs {need})")
-        if cap >= need:
-            return p
-    raise SystemExit(f"meshmark demo: the mesh is too small for the message {message!r}; try a shorter one")
-
-
 def main(argv=None):
     if argv is None:
         argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
@@ -239,14 +223,16 @@ def main(argv=None):
     if a.keyfile and os.path.isfile(keyfile):
         log(f"verifying with the existing keyfile {keyfile} (no embedding)")
     else:
-        params = fit_params(obj, a.message)
         scene.frame_set(scene.frame_start)
         select_only(obj)
         t = time.perf_counter()
-        bpy.ops.meshmark.embed(method="laplacian", message=a.message, key=a.key, keyfile=keyfile, **params)
+        # automatic parameters (the add-on's default, meshmark.watermark.auto): no search of our own;
+        # the demo's own keyfile in --out is replaced on a re-run, a --keyfile given is never replaced
+        bpy.ops.meshmark.embed(method="laplacian", message=a.message, key=a.key, keyfile=keyfile, params_mode="auto",
+                               overwrite=not a.keyfile)
         e = result()
         log(f"embedded {a.message!r} in {time.perf_counter() - t:.2f} s: {e['capacity']} carrier bits, "
-            f"params {e['params']}, max displacement {100 * e['max_disp_rel']:.3f}% of the diagonal; "
+            f"params {e['params']} ({e['params_choice']}), max displacement {100 * e['max_disp_rel']:.3f}% of the diagonal; "
             f"keyfile {keyfile}")
     select_only(obj)
     t = time.perf_counter()

@@ -19,7 +19,8 @@ import numpy as np
 
 import meshmark
 from meshmark.watermark import laplacian as L
-from meshmark.watermark.payload import OVERHEAD_BITS, Payload
+from meshmark.watermark.coding import max_data_bits
+from meshmark.watermark.payload import Payload
 
 SHARED = pathlib.Path(__file__).resolve().parents[2] / "shared" / "meshes"
 
@@ -61,18 +62,19 @@ def main():
                 cap = L.capacity(m)
             except meshmark.MeshError:
                 cap = 0
-            if cap < OVERHEAD_BITS + 1 or cap < 8:
+            if max_data_bits(cap) < 1 or cap < 8:
                 skipped += 1
                 continue
             for k in range(a.keyfiles):
-                nb = int(rng.integers(1, min(16, cap - OVERHEAD_BITS) + 1))
-                r = L.embed(m, payload=Payload.from_bits(rng.integers(0, 2, nb)), key=os.urandom(12).hex())
+                nb = int(rng.integers(1, min(16, max_data_bits(cap)) + 1))
+                r = L.embed(m, payload=Payload.from_bits(rng.integers(0, 2, nb)), key=os.urandom(12).hex(),
+                            params="thesis")
                 x = L.extract(m, keyfile=r.keyfile)
                 total += 1
                 hits += x.detected
                 w.writerow([p.relative_to(SHARED), cap, k, nb, x.matches, x.n_bits, f"{x.p_false_alarm:.3g}", int(x.detected)])
     print(f"unmarked meshes: {total} extractions over {len(files) - skipped} meshes "
-          f"({skipped} cannot carry a framed payload), detected={hits}")
+          f"({skipped} cannot carry a coded payload at thesis defaults), detected={hits}")
     return 1 if hits else 0
 
 

@@ -19,6 +19,7 @@ import tempfile
 import numpy as np
 
 import meshmark
+from meshmark.watermark.coding import min_carriers
 from _common import SHARED, write_csv
 from meshmark.watermark import laplacian as L
 from meshmark.watermark.payload import Payload
@@ -67,12 +68,12 @@ def main():
                 cap = L.capacity(m)
             except meshmark.MeshError:
                 cap = 0
-            msg = next((s for s in ("(c)ACME", "(c)", "c") if 16 + 8 * len(s) <= cap), None)
-            if msg is None and cap < 17:
+            msg = next((s for s in ("(c)ACME", "(c)", "c") if min_carriers(8 * len(s)) <= cap), None)
+            if msg is None and cap < min_carriers(1):
                 skipped += 1
                 continue
             payload = msg if msg is not None else Payload.from_bits([1])
-            r = L.embed(m, payload=payload, key="no-attack")
+            r = L.embed(m, payload=payload, key="no-attack", params="thesis")
             expect = msg if msg is not None else "1"
             for name, mm in variants(m, r.V, rng, tmp):
                 x = L.extract(mm, keyfile=r.keyfile)

@@ -129,15 +129,22 @@ def test_no_drift_and_distortion(marked_bunny):
 
 def test_message_longer_than_capacity_leaves_input_unchanged(bunny):
     V0 = bunny.V.copy()
-    with pytest.raises(MeshError, match=r"needs 264 bits .* can carry 104 bits .*K=498, n_thr=46"):
-        L.embed(bunny, payload="x" * 31, key="k")
+    # 248 data + 20 check bits need 402 carriers at the punctured rate 2/3
+    with pytest.raises(MeshError, match=r"needs 402 carrier bits .* offers 73 .*K=498, n_thr=46.*at most 28 payload"):
+        L.embed(bunny, payload="x" * 31, key="k", params="thesis")
     np.testing.assert_array_equal(bunny.V, V0)
+    r = L.embed(bunny, payload="x" * 31, key="k")  # auto: the last rung (K = ceil(N/12), n_thr = 8) offers 446
+    assert (r.capacity, r.keyfile.params["K"], r.keyfile.choice["rung"], r.keyfile.choice["rule"]) == (446, 2903, 5, 1)
 
 
 def test_too_few_carriers():
     cow = meshmark.read_mesh(shared_mesh("classic/cow.obj"))
     with pytest.raises(MeshError, match=r"offers only 6 carrier bits .*at least 8 are needed"):
-        L.embed(cow, payload="1", key="k", carrier="thesis")
+        L.embed(cow, payload="1", key="k", params="thesis")
+    r = L.embed(cow, payload="1", key="k")  # auto: 8 + 20 bits need 42; K = ceil(N/8) = 363, n_thr = 5 offers 61
+    assert (r.capacity, r.keyfile.params["K"], r.keyfile.params["n_thr"]) == (61, 363, 5)
+    with pytest.raises(MeshError, match=r"needs 282 carrier bits .* offers 166 .*at most 90 payload bits fit"):
+        L.embed(cow, payload="x" * 21, key="k")  # the ladder's largest capacity: 166 (K = 968, n_thr = 2)
     with pytest.raises(MeshError, match="K must be at least 4"):
         L.capacity(cow, K=2)
     with pytest.raises(MeshError, match="unknown parameter"):
@@ -243,27 +250,40 @@ def test_cli_embed_extract_capacity(tmp_path):
     src = str(shared_mesh("classic/elephant.off"))
     run = lambda *a: subprocess.run([sys.executable, "-m", "meshmark.cli", *a], capture_output=True, text=True)
     c = json.loads(run("capacity", src, "--method", "laplacian", "--json").stdout)
-    assert c["capacity"] == 77 and c["params"]["K"] == 286 and c["params"]["carrier"] == "local"  # thesis: 44
+    assert c["capacity"] == 44 and c["params"]["K"] == 286  # the thesis parameters
+    assert c["max_message_bits"] == 9 and c["auto"]["max_message_bits"] > 9
     out, kf = str(tmp_path / "m.ply"), str(tmp_path / "k.json")
     e = run("embed", src, out, "--method", "laplacian", "--bits", "1011001110", "--key", "abc", "--keyfile", kf, "--json")
     assert e.returncode == 0, e.stderr
-    assert json.loads(e.stdout)["capacity"] == 77
+    d = json.loads(e.stdout)  # auto: 10 + 20 bits need 45 carriers; the next rung (N/50 bins) has 63
+    assert d["capacity"] == 63 and d["params_choice"]["mode"] == "auto" and d["params"]["K"] == 401
+    t = run("embed", src, out, "--method", "laplacian", "--bits", "101100111", "--key", "abc", "--keyfile", kf,
+            "--params", "thesis", "--force", "--json")
+    assert t.returncode == 0 and json.loads(t.stdout)["capacity"] == 44, t.stderr
     x = run("extract", out, "--keyfile", kf, "--json")
     d = json.loads(x.stdout)
-    assert x.returncode == 0 and d["detected"] and d["message"] == "1011001110" and d["cdr"] == 1.0
+    assert x.returncode == 0 and d["detected"] and d["message"] == "101100111" and d["cdr"] == 1.0
     w = run("extract", out, "--keyfile", kf, "--key", "not-abc", "--json")
     assert w.returncode == 1 and json.loads(w.stdout)["detected"] is False
-    big = run("embed", src, out, "--message", "this message is far too long", "--key", "k", "--keyfile", kf)
-    assert big.returncode == 2 and "can carry 77 bits" in big.stderr
+    big = run("embed", src, out, "--message", "this message is far too long", "--key", "k", "--keyfile", kf,
+              "--params", "thesis", "--force")
+    assert big.returncode == 2 and "the mesh offers 44" in big.stderr
 
 
 def test_skewed_histogram_disables_the_range_search():
     """vtk_trumpet (33 parts, 36-gons): a shifted range scores higher by chance; the embedder sees it
     and records range_search = False, so the mark reads back exactly."""
     m = meshmark.read_mesh(shared_mesh("corpus/vtk_trumpet.obj"))
-    r = L.embed(m, payload="M", key="trumpet", n_thr=20)
-    assert r.keyfile.side_info["range_search"] is False
-    assert L.extract(r.V, m, keyfile=r.keyfile).cdr == 1.0
+    # At the thesis K with n_thr = 20 the trumpet offers 27 carriers: too few for a coded message
+    # (1 + 20 check bits need 32), so the 27 carrier bits are written directly (framework.embed_channel).
+    from meshmark.watermark import framework
+    w = meshmark.weld_vertices(m).mesh
+    p = L.METHOD.resolve(w, {"n_thr": 20})
+    ids, side = L.METHOD.carriers(w, p)
+    ch = np.random.default_rng(7).integers(0, 2, len(ids)).astype(np.uint8)
+    V, side, _ = framework.embed_channel(w, L.METHOD, p, side, ids, ch)
+    assert len(ids) == 27 and side["range_search"] is False
+    assert np.array_equal(L.METHOD.extract(w.with_vertices(V), p, side, ids)[0], ch)
     bunny = meshmark.read_mesh(shared_mesh("classic/bunny.obj"))
     assert L.embed(bunny, payload="M", key="b").keyfile.side_info["range_search"] is True
 

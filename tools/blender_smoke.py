@@ -51,7 +51,7 @@ s = json.loads(bpy.context.scene.meshmark.last_result)
 print("meshmark smoke: study", s["summary"], s["csv"], s["plot"])
 assert s["summary"]["detected_frames"] == 5
 try:
-    bpy.ops.meshmark.embed(message="M" * 40, key="k", keyfile=kf)
+    bpy.ops.meshmark.embed(message="M" * 40, key="k", keyfile=kf, overwrite=True)
     raise AssertionError("a too-long message was accepted")
 except RuntimeError as exc:
     print("meshmark smoke: error reported as expected:", str(exc).strip()[:80])
@@ -65,15 +65,17 @@ bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.import_scene.gltf(filepath=rigs.shared_mesh("rigged/Fox.glb"))
 fox = bpy.data.objects["fox"]
 rigs.select_only(fox)
-assert bpy.ops.meshmark.embed(message="F", key="fox", keyfile=kf, K=80, n_thr=1, n_robust=1) == {"FINISHED"}
+# a second keyfile: the first is never overwritten silently (docs/coding.md); one bit (1 + 20 check
+# bits need 32 carriers: K=100, n_thr=1 give 32 on the Fox's 290 welded vertices)
+kf = kf.replace(".json", "-fox.json")
+assert bpy.ops.meshmark.embed(bits="1", key="fox", keyfile=kf, K=100, n_thr=1, n_robust=1) == {"FINISHED"}
 r = json.loads(bpy.context.scene.meshmark.last_result)
 print(f"meshmark smoke: Fox {r['n_vertices']} vertices welded to {r['welded_vertices']}, {r['capacity']} carriers")
-# 34 carriers with the default carrier "local" (the thesis carrier: 27)
-assert (r["n_vertices"], r["welded_vertices"], r["capacity"], r["stored_cdr"]) == (1728, 290, 34, 1.0), r
+assert (r["n_vertices"], r["welded_vertices"], r["capacity"], r["stored_cdr"]) == (1728, 290, 32, 1.0), r
 bpy.data.objects["root"].data.pose_position = "REST"
 bpy.ops.meshmark.verify(keyfile=kf)
 r = json.loads(bpy.context.scene.meshmark.last_result)
 print(f"meshmark smoke: Fox at rest  CDR {r['cdr']:.3f}  message {r['message']!r}  welded {r['n_merged']} copies")
-assert r["cdr"] == 1.0 and r["message"] == "F" and r["n_vertices"] == 290 and r["n_merged"] == 1438, r
+assert r["cdr"] == 1.0 and r["message"] == "1" and r["n_vertices"] == 290 and r["n_merged"] == 1438, r
 meshmark_blender.unregister()
 print("meshmark smoke: OK")

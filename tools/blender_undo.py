@@ -81,7 +81,8 @@ def run():
         assert (V1 != V0).any()
         assert bpy.ops.ed.undo.poll(), "ed.undo does not poll in the window"
         try:
-            bpy.ops.meshmark.embed("EXEC_DEFAULT", True, method="laplacian", message="M" * 40, key="arm", keyfile=kf)
+            bpy.ops.meshmark.embed("EXEC_DEFAULT", True, method="laplacian", message="M" * 40, key="arm", keyfile=kf,
+                                   overwrite=True)  # consent given: the failure is the message's length
             raise AssertionError("a 40-byte message was accepted")
         except RuntimeError as exc:
             failed_error = str(exc).strip()

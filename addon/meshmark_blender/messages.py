@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import re
 
-from meshmark.watermark.payload import MAX_DATA_BITS, OVERHEAD_BITS
+from meshmark.watermark.payload import MAX_DATA_BITS
 
 from . import params as _params
 
@@ -54,11 +54,11 @@ def friendly(text: str, method: str | None = None) -> str:
     if m:
         return (f"{TOO_SMALL}: it offers only {m.group(1)} of the {m.group(3)} bits a mark needs with the "
                 f"{label} method ({_rename(m.group(2), method)}); {_room(method)}")
-    m = re.search(r"the message needs (\d+) bits .* but the mesh can carry (\d+) bits with the \S+ method \((.*)\)",
-                  text)
-    if m:
+    m = re.search(r"the message needs (\d+) carrier bits .* but the mesh offers (\d+) with the \S+ method "
+                  r"\((.*)\); at most (\d+) payload bits fit", text)
+    if m:  # framework.embed (docs/coding.md: data + 20 check bits, at least 1.5 carriers per bit)
         cap = int(m.group(2))
-        fit = max(0, min(cap - OVERHEAD_BITS, MAX_DATA_BITS)) // 8
+        fit = min(int(m.group(4)), MAX_DATA_BITS) // 8
         room = f"at most {fit} bytes of text fit" if fit else "not even one letter fits"
         return (f"message too long for this mesh: it needs {m.group(1)} bits, the mesh can carry {cap} bits "
                 f"({_rename(m.group(3), method)}); {room}. Shorten it, or {_room(method)}")

@@ -22,7 +22,10 @@ import meshmark
 from meshmark import MeshError
 from meshmark.watermark import METHODS, capacity as wm_capacity, embed as wm_embed, extract as wm_extract
 from meshmark.watermark import load_keyfile, save_keyfile
-from meshmark.watermark.payload import OVERHEAD_BITS, Payload
+from meshmark.watermark.auto import longest_payload_bits
+from meshmark.watermark.coding import max_data_bits
+from meshmark.watermark.keyfile import refuse_overwrite
+from meshmark.watermark.payload import MAX_DATA_BITS, Payload
 
 from . import bridge, messages, properties, study
 from . import params as _params
@@ -150,6 +153,26 @@ def _add_method_params(cls):
     cls.__annotations__ = ann
 
 
+def _params_arg():
+    return EnumProperty(name="Parameters", items=properties.PARAMS_MODE_ITEMS, default="auto", options={"SKIP_SAVE"})
+
+
+def changed_params(method: str, params: dict) -> dict:
+    """The parameters that differ from the method's defaults: with automatic parameters the panel's
+    fields at their (thesis) defaults mean "choose", values the user changed are kept."""
+    defaults = _params.method_defaults(method)
+    return {k: v for k, v in params.items() if v is not None and v != defaults.get(k)}
+
+
+def proposed_keyfile(context, obj) -> str:
+    """A keyfile name for this object: ``<object>.meshmark.json`` beside the scene's keyfile, the
+    .blend, or in the current directory."""
+    base = context.scene.meshmark.keyfile
+    folder = os.path.dirname(_abspath(base)) if base else (os.path.dirname(bpy.data.filepath) if bpy.data.filepath else "")
+    return os.path.join(folder, f"{bpy.path.clean_name(obj.name)}.meshmark.json") if folder else \
+        f"{bpy.path.clean_name(obj.name)}.meshmark.json"
+
+
 def _check_text(message: str, kind="text"):
     if not message:
         raise MeshError("the message is empty: type a message to hide")
@@ -168,14 +191,29 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
     key: StringProperty(name="Key", options={"SKIP_SAVE"}, subtype="PASSWORD")
     keyfile: StringProperty(name="Keyfile", options={"SKIP_SAVE"}, subtype="FILE_PATH")
     weld: _weld_arg()
+    params_mode: _params_arg()
+    overwrite: BoolProperty(name="Overwrite", default=False, options={"SKIP_SAVE"},
+                            description="Replace an existing keyfile (its marks can no longer be read without it)")
     filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE", "HIDDEN"})
     filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+    check_existing: BoolProperty(default=True, options={"HIDDEN", "SKIP_SAVE"})
 
     def invoke(self, context, event):
-        if not (self.properties.is_property_set("keyfile") and self.keyfile) and not context.scene.meshmark.keyfile:
-            self.filepath = "keyfile.json"  # ask where the keyfile goes (never into the .blend)
+        obj = context.active_object
+        given = self.properties.is_property_set("keyfile") and self.keyfile
+        if not given and not context.scene.meshmark.keyfile:
+            # ask where the keyfile goes (never into the .blend), proposing one name per object
+            self.filepath = proposed_keyfile(context, obj) if obj is not None else "keyfile.json"
             context.window_manager.fileselect_add(self)
             return {"RUNNING_MODAL"}
+        path = _abspath(self.keyfile if given else context.scene.meshmark.keyfile)
+        if path and os.path.exists(path) and not self.overwrite:
+            try:  # anything else wrong is said first (and nothing is asked)
+                self.run(context, dry=True)
+            except Exception as exc:
+                return self.fail(context, exc)
+            self.overwrite = True  # confirmed in the dialog: "OK" runs execute
+            return context.window_manager.invoke_confirm(self, event)
         return self.execute(context)
 
     def draw(self, context):
@@ -188,7 +226,8 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
                   else f"{len(self.bits)} bits", icon="FONT_DATA")
         col.label(text="Key: " + ("set" if self.arg(context, "key") else "missing"), icon="KEY_HLT")
 
-    def run(self, context):
+    def run(self, context, dry: bool = False):
+        """Embed; ``dry``: compute and check everything, write nothing (the overwrite dialog's check)."""
         obj = bridge.active_mesh_object(context)
         method = self.arg(context, "method")
         message = self.arg(context, "message")
@@ -204,20 +243,31 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
             raise MeshError("choose where to save the keyfile (keyfile='/path/k.json', or the panel's Keyfile field)")
         if not os.path.isdir(os.path.dirname(keyfile)):
             raise MeshError(f"cannot write the keyfile '{keyfile}': the directory does not exist")
+        if not dry:
+            refuse_overwrite(keyfile, self.overwrite, "overwrite=True (or confirm in the dialog)")
+        if self.properties.is_property_set("params_mode"):
+            params_mode = self.params_mode
+        else:  # the panel's Settings: Auto = the automatic choice, Custom = the fields as set
+            params_mode = "auto" if context.scene.meshmark.param_mode == "AUTO" else "thesis"
         params = self.method_params(context, method)
+        if params_mode == "auto":
+            params = changed_params(method, params)
         weld = self.arg(context, "weld")
         mesh = bridge.base_mesh(obj)
         progress = _Progress(context, 0.0, 0.9)
         try:
             t0 = time.perf_counter()
-            res = wm_embed(mesh, payload=payload, key=key, method=method, progress=progress, weld=weld, **params)
+            res = wm_embed(mesh, payload=payload, key=key, method=method, progress=progress, weld=weld,
+                           params=params_mode, **params)
             t_native = time.perf_counter() - t0
             # what Blender will store (float32), checked before anything is written
             D = res.V - mesh.V
             stored = (mesh.V + D).astype(np.float32).astype(np.float64)
             check = wm_extract(mesh.with_vertices(stored), keyfile=res.keyfile)
             progress(1.0)
-            save_keyfile(res.keyfile, keyfile)  # may fail: the mesh is still untouched
+            if dry:
+                return None
+            save_keyfile(res.keyfile, keyfile, overwrite=self.overwrite)  # may fail: the mesh is still untouched
             bridge.apply_displacement(obj, D)  # the only write
         finally:
             progress.end()
@@ -296,11 +346,13 @@ def capacity_of(obj, method: str, params: dict, weld: bool = True) -> dict:
     n_input = mesh.n_vertices
     if weld:
         mesh = meshmark.weld_vertices(mesh).mesh
-    cap = wm_capacity(mesh, method=method, weld=False, **params)
-    fit = max(0, min(cap - OVERHEAD_BITS, 255))
+    cap = wm_capacity(mesh, method=method, weld=False, params="thesis", **params)
+    fit = min(max_data_bits(cap), MAX_DATA_BITS)
+    auto_fit = min(longest_payload_bits(mesh, METHODS[method], changed_params(method, params)), MAX_DATA_BITS)
     return {"ok": True, "object": obj.name, "method": method, "n_vertices": mesh.n_vertices,
             "n_input_vertices": n_input, "weld": bool(weld), "params": METHODS[method].resolve(mesh, params),
-            "capacity": cap, "max_message_bits": fit, "max_text_bytes": fit // 8}
+            "capacity": cap, "max_message_bits": fit, "max_text_bytes": fit // 8,
+            "auto_max_message_bits": auto_fit, "auto_max_text_bytes": auto_fit // 8}
 
 
 def capacity_signature(obj, method, params, weld=True):
@@ -325,7 +377,8 @@ class MESHMARK_OT_capacity(_Base, bpy.types.Operator):
         CAPACITY_CACHE[obj.name] = (capacity_signature(obj, method, params, weld), d)
         return self.finish(context, d, "INFO",
                            f"meshmark: '{obj.name}' offers {d['capacity']} carrier bits to the {method} method: "
-                           f"up to {d['max_text_bytes']} text bytes ({d['max_message_bits']} bits)")
+                           f"up to {d['max_text_bytes']} text bytes ({d['max_message_bits']} bits) with the thesis "
+                           f"parameters, {d['auto_max_text_bytes']} ({d['auto_max_message_bits']} bits) with automatic ones")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -398,12 +451,16 @@ class MESHMARK_OT_save_keyfile(_Base, bpy.types.Operator):
 
     filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
     filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+    check_existing: BoolProperty(default=True, options={"HIDDEN", "SKIP_SAVE"})
+    overwrite: BoolProperty(name="Overwrite", default=False, options={"SKIP_SAVE"},
+                            description="Replace an existing keyfile (its marks can no longer be read without it)")
 
     def draw(self, context):  # the file browser: nothing to set beside the file name
         pass
 
     def invoke(self, context, event):
-        self.filepath = "keyfile.json"
+        obj = context.active_object
+        self.filepath = proposed_keyfile(context, obj) if obj is not None else "keyfile.json"
         context.window_manager.fileselect_add(self)
         return {"RUNNING_MODAL"}
 
@@ -417,7 +474,7 @@ class MESHMARK_OT_save_keyfile(_Base, bpy.types.Operator):
         path = _abspath(self.filepath)
         if not path:
             raise MeshError("choose a file name for the keyfile")
-        save_keyfile(kf, path)
+        save_keyfile(kf, path, overwrite=self.overwrite)  # MeshError if it exists: tick Overwrite
         context.scene.meshmark.keyfile = path
         return self.finish(context, {"ok": True, "keyfile": path}, "INFO", f"meshmark: keyfile saved to {path}")
 
@@ -467,9 +524,13 @@ def register():
         _add_method_params(c)
     for c in classes:
         bpy.utils.register_class(c)
+    from . import tracing_ops
+    tracing_ops.register()
 
 
 def unregister():
+    from . import tracing_ops
+    tracing_ops.unregister()
     for c in reversed(classes):
         bpy.utils.unregister_class(c)
     LAST["keyfile"] = None

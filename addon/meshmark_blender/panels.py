@@ -118,6 +118,11 @@ def result_lines(d: dict) -> list:
     """(text, icon) lines of a result for the result box."""
     if not d.get("ok", True):
         return [(d.get("error", "error"), "ERROR")]
+    if "p_false_alarm" in d and "copy" in d:  # meshmark.trace
+        return [(f"Copy {d['copy']}" if d["copy"] else "No issued copy", "CHECKMARK" if d["copy"] else "CANCEL"),
+                (f"P(false alarm) {d['p_false_alarm']:.2g}", "NONE")]
+    if "copies" in d and "registry" in d:  # meshmark.issue_copies
+        return [(f"Issued {len(d['copies'])} copies", "CHECKMARK")]
     if "summary" in d:
         s = d["summary"]
         return [(f"Found on {s['detected_frames']}/{s['frames']} frames",
@@ -170,8 +175,12 @@ def capacity_lines(obj, settings) -> list:
     d, why = capacity_of_active(obj, settings)
     if d is None:
         return [why]
+    if settings.param_mode == "AUTO":  # the automatic choice: the longest text over its ladder
+        fit = d.get("auto_max_text_bytes", d["max_text_bytes"])
+        text = f"Fits {fit} byte{'s' if fit > 1 else ''} of text" if fit else "No text fits"
+        return ["Automatic settings", text]
     fit = d["max_text_bytes"]
-    text = f"Fits {fit} byte{'s' if fit > 1 else ''} of text" if fit else "Too small for a message"
+    text = f"Fits {fit} byte{'s' if fit > 1 else ''} of text" if fit else "No text fits"
     return [f"Capacity {d['capacity']} bits", text]
 
 
@@ -277,6 +286,9 @@ class MESHMARK_PT_trace(_Sidebar, bpy.types.Panel):
     needs = ("meshmark.issue_copies", "meshmark.trace")  # the copy-tracing operators (product)
 
     def draw(self, context):
+        s = context.scene.meshmark
+        field(self.layout, s, "registry")
+        self.layout.prop(s, "copies")
         row = self.layout.row(align=True)
         row.operator("meshmark.issue_copies", text="Issue", icon="DUPLICATE")
         row.operator("meshmark.trace", text="Trace", icon="VIEWZOOM")

@@ -15,6 +15,8 @@ from meshmark.watermark import METHODS
 from . import params as _params
 
 _ENUM_ITEMS = []  # keep the strings alive (Blender does not copy dynamic enum items)
+PARAMS_MODE_ITEMS = [("auto", "Automatic", "Choose the parameters for this mesh and message (recorded in the keyfile)"),
+                     ("thesis", "Thesis", "The published defaults")]
 
 
 def method_items(self, context):
@@ -62,6 +64,9 @@ def _build_classes():
                                        description="Let meshmark choose the method's settings, or set them"),
             "message": StringProperty(name="Message", description="Text to hide in the mesh (at most 31 bytes; "
                                       "a small mesh holds less: see the capacity line)", default="meshmark"),
+            "registry": StringProperty(name="Registry", default="", subtype="FILE_PATH",
+                                       description="SQLite registry of issued copies (copy tracing)"),
+            "copies": IntProperty(name="Copies", default=10, min=1, description="Copies to issue"),
             "key": StringProperty(name="Key", description="Secret key (stored in the keyfile, not in the mesh)",
                                   default="", subtype="PASSWORD"),
             "keyfile": StringProperty(name="Keyfile", description="Keyfile written by Embed and read by Verify "

@@ -17,4 +17,5 @@ PYBIND11_MODULE(_core, m) {
   meshmark::python::bind_analysis(m);
   meshmark::python::bind_stego(m);
   meshmark::python::bind_steganalysis(m);
+  meshmark::python::bind_coding(m);
 }

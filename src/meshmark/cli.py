@@ -114,6 +114,9 @@ def _method_options(f):
     f = click.option("--K", "K", type=int, default=None,
                      help="Number of histogram bins (laplacian ceil(N/70), cho-* 64, radial 400).")(f)
     f = click.option("--method", type=click.Choice(_METHOD_CHOICES), default="laplacian", show_default=True)(f)
+    f = click.option("--params", "params_mode", type=click.Choice(["auto", "thesis"]), default="auto", show_default=True,
+                     help="auto: choose the parameters for this mesh and payload (recorded in the keyfile); "
+                          "thesis: the published defaults. Options given explicitly are kept in both.")(f)
     return f
 
 
@@ -148,29 +151,33 @@ def _progress_bar(as_json: bool):
 @click.option("--bits", help="Raw bit string to hide, e.g. 0110.")
 @click.option("--key", required=True, help="Secret key (keep it; it is also stored in the keyfile).")
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Where to write the keyfile (JSON).")
+@click.option("--force", is_flag=True, default=False, help="Overwrite an existing keyfile.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def embed(inp, out, method, message, bits, key, keyfile, as_json, **method_params):
+def embed(inp, out, method, message, bits, key, keyfile, force, as_json, params_mode, **method_params):
     """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile."""
     from . import read_mesh, write_mesh
-    from .watermark import embed as wm_embed, save_keyfile
+    from .watermark import METHODS, embed as wm_embed, save_keyfile
     from .watermark.payload import Payload
 
     if (message is None) == (bits is None):
         raise MeshError("give exactly one of --message TEXT or --bits 0110...")
     payload = Payload.from_text(message) if message is not None else Payload.from_bits(bits)
+    from .watermark.keyfile import refuse_overwrite
+    refuse_overwrite(keyfile, force, "--force")  # before any work: nothing is written if it exists
     mesh, fmt = read_mesh(inp, return_info=True)
     report, bar = _progress_bar(as_json)
     try:
-        res = wm_embed(mesh, payload=payload, key=key, method=method, progress=report,
+        res = wm_embed(mesh, payload=payload, key=key, method=method, progress=report, params=params_mode,
                        **_params(**method_params))
     finally:
         if bar is not None:
             bar.__exit__(None, None, None)
     write_mesh(out, res.V, mesh, float32=bool(fmt["float32"]) and out.lower().endswith(".ply"))
-    save_keyfile(res.keyfile, keyfile)
+    save_keyfile(res.keyfile, keyfile, overwrite=force)
     d = {"input": inp, "output": out, "keyfile": keyfile, **res.to_dict()}
-    text = (f"embedded {payload.data.size} payload bits ({res.keyfile.coding['frame_bits']} framed, repeated over "
-            f"{res.capacity} carriers) with the {method} method into {out}\nkeyfile: {keyfile} (keep it private)")
+    text = (f"embedded {payload.data.size} payload bits ({res.keyfile.coding['info_bits']} with the keyed check, "
+            f"coded over {res.capacity} carriers) with the {method} method ({params_mode} parameters: "
+            f"{METHODS[method].describe(res.keyfile.params)}) into {out}\nkeyfile: {keyfile} (keep it private)")
     _emit(d, as_json, text)
 
 
@@ -203,11 +210,14 @@ def extract(inp, keyfile, key, as_json):
 @click.argument("inp", metavar="IN")
 @_method_options
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def capacity(inp, method, as_json, **method_params):
-    """How many carrier bits IN offers to a method, and how long a message fits."""
+def capacity(inp, method, as_json, params_mode, **method_params):
+    """How many carrier bits IN offers to a method, and the longest message that fits, with the
+    published defaults (thesis) and with automatic parameters (auto)."""
     from . import read_mesh, weld_vertices
     from .watermark import METHODS
-    from .watermark.payload import OVERHEAD_BITS
+    from .watermark.auto import choose, longest_payload_bits
+    from .watermark.coding import max_data_bits
+    from .watermark.payload import MAX_DATA_BITS
 
     mesh = read_mesh(inp)
     m = METHODS[method]
@@ -215,14 +225,16 @@ def capacity(inp, method, as_json, **method_params):
     weld = params.pop("weld")
     if weld:
         mesh = weld_vertices(mesh).mesh
-    p = m.resolve(mesh, params)
-    ids, _ = m.carriers(mesh, p)
+    p, ids, _, _ = choose(mesh, m, "thesis", params, None)
     cap = int(len(ids))
+    fit = min(max_data_bits(cap), MAX_DATA_BITS)
+    auto_fit = min(longest_payload_bits(mesh, m, params), MAX_DATA_BITS)
     d = {"input": inp, "method": method, "params": p, "weld": weld, "n_vertices": mesh.n_vertices, "capacity": cap,
-         "max_message_bits": max(0, min(cap - OVERHEAD_BITS, 255)),
-         "max_text_bytes": max(0, min(cap - OVERHEAD_BITS, 255) // 8)}
-    _emit(d, as_json, f"{inp}: {cap} carrier bits with the {method} method ({m.describe(p)}); "
-                      f"a message of up to {d['max_message_bits']} bits ({d['max_text_bytes']} text bytes) fits")
+         "max_message_bits": fit, "max_text_bytes": fit // 8,
+         "auto": {"max_message_bits": auto_fit, "max_text_bytes": auto_fit // 8}}
+    _emit(d, as_json, f"{inp}: {cap} carrier bits with the {method} method and the thesis parameters "
+                      f"({m.describe(p)}): a message of up to {fit} bits ({fit // 8} text bytes) fits; "
+                      f"with --params auto up to {auto_fit} bits ({auto_fit // 8} text bytes)")
 
 
 # --- attack / compare ---------------------------------------------------------------------------------
@@ -392,6 +404,7 @@ from .steganalysis.cli import add_commands as _steganalysis_commands; _steganaly
 
 main.add_command(__import__("meshmark.study.cli", fromlist=["study"]).study)
 
+[main.add_command(_c) for _c in __import__("meshmark.cli_tracing", fromlist=["COMMANDS"]).COMMANDS]  # issue, trace
 
 if __name__ == "__main__":  # pragma: no cover
     main()

@@ -230,7 +230,7 @@ def _method_params(name) -> set:
     d = getattr(m, "defaults", None)
     if d is None:
         d = getattr(sys.modules[type(m).__module__], "DEFAULTS")
-    return set(d)
+    return set(d) | {"params"}  # plus the framework's parameter mode: "auto" (default) or "thesis"
 
 
 def _expand_values(ck: _Checker, entry: dict, path: tuple, known: set | None, what: str, seed_text: str):

@@ -101,10 +101,13 @@ def apply_attack(variant, mesh: Mesh, seed: int):
 
 
 def make_payload(cap: int, bits: int, seed: int):
-    from ..watermark.payload import OVERHEAD_BITS, Payload
-    nb = min(bits, cap - OVERHEAD_BITS)
+    """A random payload of ``bits`` bits, or fewer: as many as ``cap`` carriers take with the
+    keyed-check code (:func:`meshmark.watermark.coding.max_data_bits`)."""
+    from ..watermark.coding import max_data_bits
+    from ..watermark.payload import Payload
+    nb = min(bits, max_data_bits(cap))
     if nb < 1:
-        raise MeshError(f"the mesh offers {cap} carrier bits: no room for a payload after {OVERHEAD_BITS} framing bits")
+        raise MeshError(f"the mesh offers {cap} carrier bits: too few for one payload bit with its check bits")
     rng = np.random.default_rng(seed)
     return Payload.from_bits(rng.integers(0, 2, nb))
 

@@ -5,7 +5,11 @@
 * :mod:`~meshmark.watermark.cho` — Cho et al.'s vertex-norm mean and variance methods (``cho-mean``,
   ``cho-variance``; thesis §2.2.2, ch. 6);
 * :mod:`~meshmark.watermark.radial` — Yang's radial histogram with a PCA origin (``radial``; §6.1-6.2);
-* :mod:`~meshmark.watermark.payload` — framing (length, CRC-8) and repetition coding of messages;
+* :mod:`~meshmark.watermark.coding` — the payload's keyed check and tail-biting convolutional code,
+  soft-decoded (docs/coding.md); :mod:`~meshmark.watermark.payload` — the message as bits (and the
+  earlier length/CRC-8/repetition framing, still read);
+* :mod:`~meshmark.watermark.auto` — automatic parameters (``params="auto"``);
+* :mod:`~meshmark.watermark.tracing` — copy tracing: ``issue`` / ``trace`` with a SQLite registry;
 * :mod:`~meshmark.watermark.keys` — key-derived permutation and whitening of the carriers;
 * :mod:`~meshmark.watermark.keyfile` — the versioned JSON keyfile that ``extract`` needs;
 * :mod:`~meshmark.watermark.framework` — embed/extract/detect for any method.
@@ -16,6 +20,7 @@ Generic entry points: :func:`embed`, :func:`extract`, :func:`capacity` with ``me
 from .framework import METHODS, embed, extract, capacity, EmbedResult, ExtractResult
 from .keyfile import Keyfile, load_keyfile, save_keyfile
 from . import laplacian, cho, radial
+from . import auto, coding, tracing
 
 __all__ = ["METHODS", "embed", "extract", "capacity", "EmbedResult", "ExtractResult", "Keyfile",
-           "load_keyfile", "save_keyfile", "laplacian", "cho", "radial"]
+           "load_keyfile", "save_keyfile", "laplacian", "cho", "radial", "auto", "coding", "tracing"]

@@ -112,7 +112,7 @@ class _Cho:
         if ids.size and ids.max() >= p["K"]:
             raise MeshError("keyfile lists a carrier beyond the histogram's bins (corrupt keyfile?)")
         s = stat[ids] - REFERENCE[self.kind]
-        return (s > 0).astype(np.uint8), np.abs(s) / p["alpha"]
+        return (s > 0).astype(np.uint8), s / p["alpha"]  # signed reliability (> 0: bit 1)
 
 
 MEAN = _Cho("mean")

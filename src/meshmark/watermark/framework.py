@@ -15,7 +15,10 @@ and this module does the rest, identically for every method:
    Exporters split vertices at UV seams and sharp edges, and non-indexed glTF/STL keep every corner
    apart: without welding the edge graph of such a mesh is a set of loose pieces. The choice is
    stored in the keyfile and extraction welds the same way;
-1. frame the payload (:mod:`.payload`: length, data, CRC-8) and repeat it over all carriers;
+1. choose the parameters (``params="auto"``, the default: :mod:`.auto`; ``"thesis"``: the published
+   defaults) and code the payload (:mod:`.coding`: data + 20-bit keyed check, tail-biting
+   convolutional code rate-matched to all carriers; keyfiles of meshmark <= 0.x used the repetition
+   code of :mod:`.payload`, still read);
 2. whiten the coded bits and assign them to carriers in a key-dependent order (:mod:`.keys`);
 3. embed, then re-extract and re-embed the carriers that did not take (at most 4 rounds);
 4. write the keyfile (:mod:`.keyfile`).
@@ -24,7 +27,8 @@ Extraction un-permutes and un-whitens with the keyfile's key (or a key given), c
 with the expected ones (matches, NC, CDR), computes the false-alarm probability P(X >= matches),
 X ~ Bin(n, 1/2), and decides ``detected = p_false_alarm < 1e-6`` (:data:`DETECTION_THRESHOLD`): a
 random or unmarked mesh, or a wrong key, is called marked with probability below one in a million.
-The message is decoded by majority vote and accepted only if its length and CRC agree.
+The message is decoded by a soft Viterbi decoder from the methods' signed reliabilities and accepted
+only if its keyed check agrees *and* the mark is detected: no message is returned without a detection.
 """
 from __future__ import annotations
 
@@ -40,7 +44,8 @@ from ..topology import Welded, weld_vertices
 from ..metrics import cdr as _cdr, false_alarm_probability, normalized_correlation
 from . import keys as _keys
 from .keyfile import Keyfile, load_keyfile
-from .payload import OVERHEAD_BITS, Payload, decode, repeat_to
+from . import coding as _coding
+from .payload import Payload, decode as _decode_repeat, repeat_to
 
 DETECTION_THRESHOLD = 1e-6
 MIN_CARRIERS = 8
@@ -80,9 +85,11 @@ class EmbedResult:
         return iter((self.V, self.keyfile))
 
     def to_dict(self) -> dict:
-        return {"method": self.keyfile.method, "capacity": self.capacity, "n_coded": self.keyfile.coding["n_coded"],
-                "frame_bits": self.keyfile.coding["frame_bits"], "payload_bits": self.keyfile.payload["n_bits"],
-                "params": self.keyfile.params, "weld": self.keyfile.weld,
+        c = self.keyfile.coding
+        return {"method": self.keyfile.method, "capacity": self.capacity, "n_coded": c["n_coded"],
+                "coding": c["scheme"], "info_bits": c.get("info_bits", c.get("frame_bits")),
+                "payload_bits": self.keyfile.payload["n_bits"], "params": self.keyfile.params,
+                "params_choice": self.keyfile.choice, "weld": self.keyfile.weld,
                 "welded_vertices": self.keyfile.mesh["n_vertices"], **self.stats}
 
 
@@ -123,57 +130,40 @@ def _weld(mesh: Mesh, weld) -> Welded | None:
     return weld_vertices(mesh) if weld else None
 
 
-def capacity(V, F=None, method: str = "laplacian", weld: bool = True, **params) -> int:
-    """Number of carrier bits the mesh offers to ``method`` with these parameters (before framing),
-    on the welded mesh unless ``weld=False``."""
+def capacity(V, F=None, method: str = "laplacian", weld: bool = True, params="thesis", n_data: int = None,
+             **method_params) -> int:
+    """Number of carrier bits the mesh offers to ``method`` (before coding), on the welded mesh unless
+    ``weld=False``: with the published defaults (``params="thesis"``, the default here) or with the
+    parameters ``params="auto"`` chooses for a payload of ``n_data`` bits (:mod:`.auto`)."""
     mesh = as_mesh(V, F)
     w = _weld(mesh, weld)
     mesh = w.mesh if w is not None else mesh
-    m = _method(method)
-    p = m.resolve(mesh, params)
-    ids, _ = m.carriers(mesh, p)
+    from .auto import choose
+    _, ids, _, _ = choose(mesh, _method(method), params, method_params, n_data)
     return int(len(ids))
 
 
-def _expected(payload: Payload, key: str, method: str, n: int):
-    coded = repeat_to(payload.frame(), n)
+def _coded(payload: Payload, key: str, method: str, n: int, scheme: str) -> np.ndarray:
+    """(n,) coded bits of the payload under ``scheme`` (before whitening)."""
+    if scheme == "repeat":  # keyfiles before the convolutional code
+        return repeat_to(payload.frame(), n)
+    return _coding.encode(payload.data, payload.kind, key, method, n)
+
+
+def _expected(payload: Payload, key: str, method: str, n: int, scheme: str = _coding.SCHEME):
+    coded = _coded(payload, key, method, n, scheme)
     white = _keys.whitening(key, method, n)
     order = _keys.permutation(key, method, n)
     return coded, white, order
 
 
-def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress=None, weld: bool = True,
-          **params) -> EmbedResult:
-    """Embed ``payload`` (text, bit string or Payload) under ``key`` with ``method``.
-
-    Returns an :class:`EmbedResult` with the marked vertices (one row per input vertex, in input
-    order) and the keyfile; the input arrays are never modified. With ``weld=True`` (default) the
-    method runs on the mesh with coincident vertices merged and every copy gets the same marked
-    position (copies that were bit-identical stay bit-identical). Raises MeshError (nothing
-    changed) when the mesh is invalid, offers fewer than 8 carriers, or the framed message does not
-    fit (the message states the capacity in bits).
-    ``progress(fraction, text)`` is called as the work advances, if given.
-    """
-    report = progress or (lambda f, t: None)
-    mesh_in = as_mesh(V, F)
-    m = _method(method)
-    key = _keys.check_key(key)
-    pl = Payload.coerce(payload)
-    w = _weld(mesh_in, weld)
-    mesh = w.mesh if w is not None else mesh_in
-    p = m.resolve(mesh, params)
-    report(0.05, "finding carriers")
-    ids, side = m.carriers(mesh, p)
-    cap = int(len(ids))
-    if cap < MIN_CARRIERS:
-        raise MeshError(f"the mesh offers only {cap} carrier bits to the {method} method with {m.describe(p)}; "
-                        f"at least {MIN_CARRIERS} are needed")
-    if pl.frame_bits > cap:
-        raise MeshError(f"the message needs {pl.frame_bits} bits ({pl.data.size} data + {OVERHEAD_BITS} framing) but "
-                        f"the mesh can carry {cap} bits with the {method} method ({m.describe(p)})")
-    coded, white, order = _expected(pl, key, method, cap)
-    channel = coded ^ white
-    carriers = np.asarray(ids)[order]  # carrier of coded bit i
+def embed_channel(mesh: Mesh, m, p: dict, side: dict, ids, channel: np.ndarray, report=None):
+    """Write the channel bits ``channel[i]`` into carrier ``ids[i]`` (steps 3 of the module doc):
+    embed, re-read, re-embed what did not take (at most MAX_ROUNDS). Returns (V, side, stats);
+    MeshError if some carrier still reads wrong."""
+    report = report or (lambda f, t: None)
+    carriers = np.asarray(ids)
+    cap = carriers.size
     Vm = mesh.V
     stats = {}
     todo = np.arange(cap)
@@ -188,19 +178,54 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
             break
     stats["rounds"] = rnd + 1
     if todo.size:
-        raise MeshError(f"the {method} mark does not take on this mesh: {todo.size} of {cap} carrier bits still read "
+        raise MeshError(f"the {m.name} mark does not take on this mesh: {todo.size} of {cap} carrier bits still read "
                         f"wrong after {MAX_ROUNDS} rounds ({m.describe(p)}); nothing was changed. Try other parameters.")
+    return Vm, side, stats
+
+
+def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress=None, weld: bool = True,
+          params="auto", **method_params) -> EmbedResult:
+    """Embed ``payload`` (text, bit string or Payload) under ``key`` with ``method``.
+
+    ``params="auto"`` (default) chooses the method's parameters for this mesh and payload
+    (:mod:`.auto`, deterministic, recorded in the keyfile); ``"thesis"`` uses the published defaults.
+    Parameters given as keywords (``K=...``) are kept as given in both modes.
+
+    Returns an :class:`EmbedResult` with the marked vertices (one row per input vertex, in input
+    order) and the keyfile; the input arrays are never modified. With ``weld=True`` (default) the
+    method runs on the mesh with coincident vertices merged and every copy gets the same marked
+    position (copies that were bit-identical stay bit-identical). Raises MeshError (nothing
+    changed) when the mesh is invalid, offers fewer than 8 carriers, or the coded message does not
+    fit (the message states the capacity in bits).
+    ``progress(fraction, text)`` is called as the work advances, if given.
+    """
+    report = progress or (lambda f, t: None)
+    mesh_in = as_mesh(V, F)
+    m = _method(method)
+    key = _keys.check_key(key)
+    pl = Payload.coerce(payload)
+    w = _weld(mesh_in, weld)
+    mesh = w.mesh if w is not None else mesh_in
+    report(0.05, "finding carriers")
+    from .auto import choose
+    p, ids, side, choice = choose(mesh, m, params, method_params, pl.data.size)
+    cap = int(len(ids))
+    if cap < MIN_CARRIERS:
+        raise MeshError(f"the mesh offers only {cap} carrier bits to the {method} method with {m.describe(p)}; "
+                        f"at least {MIN_CARRIERS} are needed")
+    need = _coding.min_carriers(pl.data.size)
+    if need > cap:
+        raise MeshError(f"the message needs {need} carrier bits ({pl.data.size} data + {_coding.CHECK_BITS} check "
+                        f"bits at code rate 2/3) but the mesh offers {cap} with the {method} method ({m.describe(p)}); "
+                        f"at most {_coding.max_data_bits(cap)} payload bits fit")
+    coded, white, order = _expected(pl, key, method, cap)
+    channel = coded ^ white
+    carriers = np.asarray(ids)[order]  # carrier of coded bit i
+    Vm, side, stats = embed_channel(mesh, m, p, side, carriers, channel, report)
     report(0.95, "writing keyfile")
-    bits = pl.bitstring()
-    kf = Keyfile(method=method, params=p, key=key, weld=bool(weld),
-                 payload={"kind": pl.kind, "n_bits": pl.data.size, "bits": bits,
-                          "sha256": hashlib.sha256(bits.encode()).hexdigest()},
-                 coding={"scheme": "repeat", "frame_bits": pl.frame_bits, "n_coded": cap},
-                 side_info={**side, "carriers": [int(c) for c in ids]},
-                 mesh={"n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces,
-                       "n_input_vertices": mesh_in.n_vertices, "n_input_faces": mesh_in.n_faces,
-                       "bbox_diagonal": float(np.linalg.norm(Vm.max(0) - Vm.min(0)))},
-                 meshmark_version=__version__)
+    kf = _make_keyfile(m, p, key, weld, pl, side, ids, mesh, mesh_in, Vm, choice,
+                       {"scheme": _coding.SCHEME, "info_bits": _coding.info_bits(pl.data.size),
+                        "check_bits": _coding.CHECK_BITS, "n_coded": cap})
     if w is not None:
         Vm = w.scatter(Vm)
         stats["n_merged"] = w.n_merged
@@ -208,20 +233,37 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     return EmbedResult(V=Vm, keyfile=kf, capacity=cap, stats=stats)
 
 
-def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
-    """Extract and detect the watermark described by ``keyfile`` (a path or Keyfile).
+def _make_keyfile(m, p, key, weld, pl: Payload, side, ids, mesh, mesh_in, Vm, choice, coding) -> Keyfile:
+    bits = pl.bitstring()
+    return Keyfile(method=m.name, params=p, key=key, weld=bool(weld),
+                   payload={"kind": pl.kind, "n_bits": pl.data.size, "bits": bits,
+                            "sha256": hashlib.sha256(bits.encode()).hexdigest()},
+                   coding=coding, side_info={**side, "carriers": [int(c) for c in ids]},
+                   mesh={"n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces,
+                         "n_input_vertices": mesh_in.n_vertices, "n_input_faces": mesh_in.n_faces,
+                         "bbox_diagonal": float(np.linalg.norm(Vm.max(0) - Vm.min(0)))},
+                   choice=choice, meshmark_version=__version__)
 
-    ``key`` overrides the keyfile's key (to test a key). The mesh may differ from the marked one
-    (attacked, deformed, re-exported): extraction is blind and never needs the original mesh. If the
-    keyfile says so (``weld``), coincident vertices are welded first, exactly as at embedding.
-    """
-    report = progress or (lambda f, t: None)
-    mesh = as_mesh(V, F)
-    if keyfile is None:
-        raise MeshError("a keyfile is required to extract")
-    kf = load_keyfile(keyfile)
+
+def read_soft(mesh: Mesh, kf: Keyfile, key: str):
+    """(raw bits (n,), signed reliabilities (n,)) of the keyfile's carriers, in coded-bit order and
+    un-whitened: bit i = 1 and soft i > 0 both mean coded bit i reads 1; |soft| <= 1 is the
+    method's reliability (Laplacian: the pair's count margin relative to its size)."""
     m = _method(kf.method)
-    key = _keys.check_key(kf.key if key is None else key)
+    n = int(kf.coding["n_coded"])
+    ids = np.asarray(kf.side_info["carriers"], dtype=np.int64)
+    if ids.size != n:
+        raise MeshError(f"keyfile: {ids.size} carriers listed but {n} coded bits")
+    white = _keys.whitening(key, kf.method, n)
+    order = _keys.permutation(key, kf.method, n)
+    got, soft = m.extract(mesh, kf.params, kf.side_info, ids[order])
+    bits = (np.asarray(got, np.uint8) ^ white).astype(np.uint8)
+    soft = np.clip(np.asarray(soft, np.float64), -1.0, 1.0) * (1.0 - 2.0 * white)
+    return bits, soft
+
+
+def _prepare(mesh: Mesh, kf: Keyfile):
+    """(mesh as the method sees it, n_merged, warnings, expected vertex count)."""
     w = _weld(mesh, kf.weld)
     n_merged = 0
     if w is not None:
@@ -232,22 +274,51 @@ def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
         welded = f" ({mesh.n_vertices + n_merged} before welding)" if n_merged else ""
         warnings.append(f"the mesh has {mesh.n_vertices} vertices{welded} but the keyfile was made for "
                         f"{expected} (simplified, cropped or remeshed?); extracting blindly")
+    return mesh, n_merged, warnings, expected
+
+
+def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
+    """Extract and detect the watermark described by ``keyfile`` (a path or Keyfile).
+
+    ``key`` overrides the keyfile's key (to test a key). The mesh may differ from the marked one
+    (attacked, deformed, re-exported): extraction is blind and never needs the original mesh. If the
+    keyfile says so (``weld``), coincident vertices are welded first, exactly as at embedding. The
+    message is decoded only when the mark is detected.
+    """
+    report = progress or (lambda f, t: None)
+    mesh = as_mesh(V, F)
+    if keyfile is None:
+        raise MeshError("a keyfile is required to extract")
+    kf = load_keyfile(keyfile)
+    _method(kf.method)
+    key = _keys.check_key(kf.key if key is None else key)
+    mesh, n_merged, warnings, expected = _prepare(mesh, kf)
     n = int(kf.coding["n_coded"])
-    ids = np.asarray(kf.side_info["carriers"], dtype=np.int64)
-    if ids.size != n:
-        raise MeshError(f"keyfile: {ids.size} carriers listed but {n} coded bits")
     pl = Payload.from_bits(kf.payload["bits"])
     pl = Payload(kf.payload["kind"], pl.data)
-    coded, white, order = _expected(pl, key, kf.method, n)
+    scheme = kf.coding["scheme"]
     report(0.2, "extracting")
-    got, soft = m.extract(mesh, kf.params, kf.side_info, ids[order])
-    bits = (np.asarray(got, np.uint8) ^ white).astype(np.uint8)
+    bits, soft = read_soft(mesh, kf, key)
+    coded = _coded(pl, key, kf.method, n, scheme)
     matches = int((bits == coded).sum())
     p_fa = false_alarm_probability(matches, n)
-    found, _, reason = decode(bits, np.asarray(soft, float), int(kf.coding["frame_bits"]), kf.payload["kind"])
+    detected = bool(p_fa < DETECTION_THRESHOLD)
+    found, reason = None, ""
+    if not detected:
+        reason = "no watermark detected (a message is only read from a detected mark)"
+    elif scheme == "repeat":
+        found, _, reason = _decode_repeat(bits, np.abs(soft), int(kf.coding["frame_bits"]), pl.kind)
+    else:
+        data, reason = _coding.decode(soft, pl.data.size, pl.kind, key, kf.method)
+        if data is not None:
+            found = Payload(pl.kind, data)
+            try:
+                found.message()
+            except UnicodeDecodeError:
+                found, reason = None, "the recovered bytes are not valid UTF-8"
     message = found.message() if found is not None else None
     report(1.0, "done")
-    return ExtractResult(detected=bool(p_fa < DETECTION_THRESHOLD), nc=normalized_correlation(coded, bits),
+    return ExtractResult(detected=detected, nc=normalized_correlation(coded, bits),
                          cdr=_cdr(coded, bits), matches=matches, n_bits=n, p_false_alarm=p_fa,
                          message=message, message_ok=found is not None, reason=reason, warnings=warnings, bits=bits,
                          n_vertices=mesh.n_vertices, n_merged=n_merged,

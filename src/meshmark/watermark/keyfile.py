@@ -5,7 +5,10 @@ It is written by ``embed`` and kept by the owner; the marked mesh can be shared 
 ``format`` ("meshmark-keyfile"), ``version`` (2), ``method``, ``params`` (the method's parameters
 as used), ``weld`` (whether vertices at equal positions were welded before the method ran; extraction
 welds the same way), ``key``, ``payload`` (``kind``, ``n_bits``, ``bits`` as a 0/1 string, ``sha256`` of that
-string), ``coding`` (``scheme`` "repeat", ``frame_bits``, ``n_coded``), ``side_info`` (method data
+string), ``coding`` (``scheme``: ``"tbcc7-r13-mac20"`` with ``info_bits``, ``check_bits``, ``n_coded``
+(:mod:`.coding`), or the older ``"repeat"`` with ``frame_bits``, ``n_coded``), ``choice`` (how the
+parameters were chosen: ``mode`` "auto" / "thesis" / "given" and the rule's details, :mod:`.auto`;
+optional), ``side_info`` (method data
 such as bin ranges and the carrier list), ``mesh`` (vertex/face counts of the mesh the method ran on,
 i.e. after welding, the input's counts and the bounding-box diagonal of the marked mesh),
 ``meshmark_version`` and ``created``.
@@ -37,13 +40,15 @@ class Keyfile:
     side_info: dict
     mesh: dict
     weld: bool = False
+    choice: dict = None
     meshmark_version: str = ""
     created: str = field(default_factory=lambda: datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"))
 
     def to_dict(self) -> dict:
         return {"format": FORMAT, "version": VERSION, "method": self.method, "params": self.params,
                 "weld": bool(self.weld), "key": self.key, "payload": self.payload, "coding": self.coding, "side_info": self.side_info,
-                "mesh": self.mesh, "meshmark_version": self.meshmark_version, "created": self.created}
+                "mesh": self.mesh, **_choice_field(self.choice), "meshmark_version": self.meshmark_version,
+                "created": self.created}
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=1)
@@ -80,18 +85,59 @@ class Keyfile:
         if p.get("sha256") != hashlib.sha256(bits.encode()).hexdigest():
             bad("payload digest does not match its bits (the keyfile was edited or corrupted)")
         c = d["coding"]
-        if c.get("scheme") != "repeat" or not isinstance(c.get("frame_bits"), int) or not isinstance(c.get("n_coded"), int):
-            bad("coding must have scheme 'repeat' and integer frame_bits and n_coded")
-        if c["frame_bits"] != len(bits) + 16 or c["n_coded"] < c["frame_bits"]:
-            bad("coding sizes are inconsistent with the payload")
-        return cls(method=d["method"], params=d["params"], key=d["key"], payload=p, coding=c, weld=weld,
+        _check_coding(c, len(bits), bad)
+        choice = _read_choice(d, bad)
+        return cls(method=d["method"], params=d["params"], key=d["key"], payload=p, coding=c, weld=weld, choice=choice,
                    side_info=d["side_info"], mesh=d["mesh"], meshmark_version=str(d.get("meshmark_version", "")),
                    created=str(d.get("created", "")))
 
 
-def save_keyfile(keyfile: Keyfile, path: str | os.PathLike) -> None:
-    """Write the keyfile as JSON (atomically: a temporary file then a rename)."""
+def _check_coding(c: dict, n_bits: int, bad) -> None:
+    """The ``coding`` field: the convolutional scheme (:mod:`.coding`) or the older repetition code."""
+    from . import coding
+    if not isinstance(c.get("n_coded"), int) or isinstance(c.get("n_coded"), bool):
+        bad("coding must have an integer n_coded")
+    if c.get("scheme") == coding.SCHEME:
+        if c.get("info_bits") != coding.info_bits(n_bits) or c.get("check_bits") != coding.CHECK_BITS:
+            bad(f"coding sizes are inconsistent with the payload (info_bits must be {coding.info_bits(n_bits)}, "
+                f"check_bits {coding.CHECK_BITS})")
+        if c["n_coded"] < coding.min_carriers(n_bits):
+            bad(f"coding: {c['n_coded']} coded bits cannot carry {n_bits} payload bits")
+    elif c.get("scheme") == "repeat":
+        if not isinstance(c.get("frame_bits"), int):
+            bad("coding scheme 'repeat' needs an integer frame_bits")
+        if c["frame_bits"] != n_bits + 16 or c["n_coded"] < c["frame_bits"]:
+            bad("coding sizes are inconsistent with the payload")
+    else:
+        bad(f"coding scheme must be {coding.SCHEME!r} or 'repeat', got {c.get('scheme')!r}")
+
+
+def _choice_field(choice) -> dict:
+    """The optional ``choice`` field as written (left out when unknown)."""
+    return {} if choice is None else {"choice": choice}
+
+
+def _read_choice(d: dict, bad):
+    choice = d.get("choice")
+    if choice is not None and (not isinstance(choice, dict) or choice.get("mode") not in ("auto", "thesis", "given")):
+        bad("field 'choice' must be an object with mode 'auto', 'thesis' or 'given'")
+    return choice
+
+
+def refuse_overwrite(path, overwrite: bool, how: str = "overwrite=True") -> None:
+    """MeshError if ``path`` exists and ``overwrite`` is not set: a keyfile is never replaced silently
+    (losing it loses the mark)."""
     path = os.fspath(path)
+    if not overwrite and os.path.exists(path):
+        raise MeshError(f"the keyfile '{path}' already exists; pass {how} to replace it (the marks made with "
+                        "it can no longer be read without it)")
+
+
+def save_keyfile(keyfile: Keyfile, path: str | os.PathLike, overwrite: bool = False) -> None:
+    """Write the keyfile as JSON (atomically: a temporary file then a rename). An existing file is
+    replaced only with ``overwrite=True`` (MeshError otherwise)."""
+    path = os.fspath(path)
+    refuse_overwrite(path, overwrite)
     tmp = path + ".tmp"
     try:
         with open(tmp, "w", encoding="utf-8") as f:

@@ -196,7 +196,8 @@ class _Laplacian:
             t = _range_factor(d, lo, hi, K, ids)
         c1, c2 = _pair_counts(d, lo * t, hi * t, K, ids)
         bits = (c1 >= c2).astype(np.uint8)  # eq. 7.1.10 / §7.3: +1 if |B_k| >= |B_k+1|
-        soft = np.abs(c1 - c2) / np.maximum(c1 + c2, 1)
+        # signed reliability: the pair's count margin relative to its size (> 0: bit 1)
+        soft = (c1 - c2) / np.maximum(c1 + c2, 1)
         return bits, soft
 
 

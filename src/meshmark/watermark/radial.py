@@ -99,7 +99,8 @@ class _Radial:
         if ids.size and ids.max() >= (p["K"] - 2) // 2:
             raise MeshError("keyfile lists a carrier beyond the histogram's pairs (corrupt keyfile?)")
         c1, c2 = ca[ids], cb[ids]
-        return (c1 > c2).astype(np.uint8), np.abs(c1 - c2) / np.maximum(c1 + c2, 1)  # eq. 6.2.10
+        # eq. 6.2.10; signed reliability = count margin relative to the pair size (> 0: bit 1)
+        return (c1 > c2).astype(np.uint8), (c1 - c2) / np.maximum(c1 + c2, 1)
 
 
 METHOD = _Radial()

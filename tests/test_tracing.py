@@ -1,0 +1,82 @@
+"""Copy tracing: meshmark.watermark.tracing, ``meshmark issue`` / ``meshmark trace``."""
+import json
+import sqlite3
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import meshmark
+from meshmark import MeshError
+from meshmark.metrics import false_alarm_probability
+from meshmark.watermark import tracing
+
+from conftest import shared_mesh
+
+
+@pytest.fixture(scope="module")
+def fandisk():
+    return meshmark.read_mesh(shared_mesh("classic/fandisk.obj"))
+
+
+def test_each_copy_traces_to_itself_and_the_original_to_none(fandisk, tmp_path):
+    reg = tmp_path / "r.sqlite"
+    out = tracing.issue(fandisk, key="owner", registry=reg, n_copies=4)
+    assert [c for c, _ in out] == ["0001", "0002", "0003", "0004"]
+    rng = np.random.default_rng(0)
+    for cid, V in out:
+        r = tracing.trace(V, fandisk, registry=reg)
+        assert (r["detected"], r["copy"]) == (True, cid) and r["matches"] == r["n_carriers"]
+        Q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        r = tracing.trace((1e-3 * V @ Q.T).astype(np.float32).astype(float), fandisk, registry=reg)
+        assert r["copy"] == cid
+    r = tracing.trace(fandisk, registry=reg)
+    assert (r["detected"], r["copy"]) == (False, None) and r["p_false_alarm"] > 1e-6
+    # the wrong key reads the carriers in another order: nothing named
+    assert tracing.trace(out[0][1], fandisk, registry=reg, key="thief")["copy"] is None
+    # a second issue adds copies to the same asset, with its parameters
+    more = tracing.issue(fandisk, key="owner", registry=reg, ids=["alice", "bob"])
+    assert tracing.trace(more[1][1], fandisk, registry=reg)["copy"] == "bob"
+    db = sqlite3.connect(reg)
+    assert db.execute("SELECT COUNT(*) FROM copies").fetchone()[0] == 6
+    assert db.execute("SELECT COUNT(*) FROM assets").fetchone()[0] == 1
+    assert db.execute("SELECT value FROM meta WHERE name='schema_version'").fetchone()[0] == "1"
+    with pytest.raises(MeshError, match="already used: bob"):
+        tracing.issue(fandisk, key="owner", registry=reg, ids=["bob"])
+    with pytest.raises(MeshError, match="another key"):
+        tracing.issue(fandisk, key="other", registry=reg, n_copies=1)
+    assert db.execute("SELECT COUNT(*) FROM copies").fetchone()[0] == 6  # failed calls record nothing
+
+
+def test_p_false_alarm_is_corrected_for_the_number_of_copies():
+    """26 perfectly read carriers certify 100 * 2^-26 = 1.5e-6 among 100 codewords: not below 1e-6;
+    27 give 7.5e-7. And 26 carriers do rank the right copy first among 100 random codewords."""
+    assert 100 * false_alarm_probability(26, 26) == pytest.approx(1.49e-6, rel=1e-2)
+    assert 100 * false_alarm_probability(27, 27) < 1e-6
+    rng = np.random.default_rng(1)
+    unique = 0
+    for _ in range(1000):
+        W = rng.integers(0, 2, (100, 26))
+        m = (W == W[0]).sum(1)  # the suspect is copy 0, read without error
+        unique += (m[1:] < 26).all()
+    assert unique >= 999  # measured 1000/1000: a tie needs two equal 26-bit words among 100
+
+
+def test_cli_issue_trace(fandisk, tmp_path):
+    src = str(shared_mesh("classic/fandisk.obj"))
+    run = lambda *a: subprocess.run([sys.executable, "-m", "meshmark.cli", *a], capture_output=True, text=True)
+    reg, out = str(tmp_path / "r.sqlite"), tmp_path / "copies"
+    ids = tmp_path / "ids.csv"
+    ids.write_text("id\nacme\nbeta\n")
+    e = run("issue", src, str(out), "--ids", str(ids), "--key", "owner", "--registry", reg, "--json")
+    assert e.returncode == 0, e.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["fandisk-acme.obj", "fandisk-beta.obj"]
+    t = run("trace", str(out / "fandisk-beta.obj"), "--registry", reg, "--json")
+    d = json.loads(t.stdout)
+    assert t.returncode == 0 and d["detected"] and d["copy"] == "beta" and d["p_false_alarm"] < 1e-6
+    n = run("trace", src, "--registry", reg, "--json")
+    assert n.returncode == 1 and json.loads(n.stdout)["copy"] is None
+    assert "none" in run("trace", src, "--registry", reg).stdout
+    bad = run("issue", src, str(out), "--copies", "2", "--ids", str(ids), "--key", "owner", "--registry", reg)
+    assert bad.returncode == 2 and "exactly one of --copies" in bad.stderr
