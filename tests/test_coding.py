@@ -140,10 +140,12 @@ def test_auto_is_deterministic_recorded_and_thesis_is_published(fandisk):
     assert a.keyfile.params == b.keyfile.params and np.array_equal(a.V, b.V)
     assert a.keyfile.choice["mode"] == "auto" and a.keyfile.coding["scheme"] == coding.SCHEME
     assert a.keyfile.coding["info_bits"] == 52 and a.capacity >= coding.min_carriers(32)
-    # ladder capacities 26, 36, 48, 69, 93, 138: 32 + 20 bits need 78, the rung K = ceil(N/18) has 93
-    assert (a.keyfile.params["K"], a.keyfile.params["n_thr"], a.keyfile.choice["rung"], a.capacity) == (360, 12, 4, 93)
-    # the thesis parameters (K = ceil(N/70) = 93, n_thr = 46) offer 26 carriers: too few for any message
-    assert framework.capacity(fandisk) == 26
+    # ladder capacities (default carrier "local") 27, 35, 49, 73, 100, 148, ...: 32 + 20 bits need 78,
+    # the rung K = ceil(N/18) has 100 (thesis carrier: 26, 36, 48, 69, 93, 138)
+    assert (a.keyfile.params["K"], a.keyfile.params["n_thr"], a.keyfile.choice["rung"], a.capacity) == (360, 12, 4, 100)
+    # the thesis parameters and carrier (K = ceil(N/70) = 93, n_thr = 46) offer 26 carriers: too few for
+    # any message; the first rung (same numbers, carrier "local") 27
+    assert framework.capacity(fandisk, params="thesis") == 26 and framework.capacity(fandisk) == 27
     with pytest.raises(meshmark.MeshError, match=r"offers 26 .*K=93, n_thr=46"):
         embed(fandisk, payload=[1], key="k", params="thesis")
     kf = Keyfile.from_dict(__import__("json").loads(a.keyfile.to_json()))  # the new fields round-trip

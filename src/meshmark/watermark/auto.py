@@ -33,6 +33,10 @@ from . import coding
 
 MODES = ("auto", "thesis")
 
+# ``params="thesis"`` is the published set: beyond the numbers, the published carrier (the Laplacian
+# length over the global mean edge length, eq. 7.1.5; docs/carrier.md), unless given explicitly.
+THESIS_CHOICES = {"laplacian": {"carrier": "thesis"}}
+
 # method -> rungs; a rung is a function (n_referenced) -> dict of parameters
 LADDERS = {
     "laplacian": [(70, 46, 5), (50, 33, 2), (35, 23, 2), (25, 16, 2), (18, 12, 2), (12, 8, 2),
@@ -88,6 +92,8 @@ def choose(mesh, m, params, method_params: dict, n_data, need: int = None):
         params = "given" if params else "auto"
     if params not in MODES and params != "given":
         raise MeshError(f"params must be 'auto', 'thesis' or a dict of parameters, got {params!r}")
+    if params == "thesis":
+        given = {**THESIS_CHOICES.get(m.name, {}), **{k: v for k, v in given.items() if v is not None}}
     if params in ("thesis", "given"):
         p = m.resolve(mesh, given)
         ids, side = m.carriers(mesh, p)

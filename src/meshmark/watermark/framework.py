@@ -130,11 +130,12 @@ def _weld(mesh: Mesh, weld) -> Welded | None:
     return weld_vertices(mesh) if weld else None
 
 
-def capacity(V, F=None, method: str = "laplacian", weld: bool = True, params="thesis", n_data: int = None,
+def capacity(V, F=None, method: str = "laplacian", weld: bool = True, params="auto", n_data: int = None,
              **method_params) -> int:
     """Number of carrier bits the mesh offers to ``method`` (before coding), on the welded mesh unless
-    ``weld=False``: with the published defaults (``params="thesis"``, the default here) or with the
-    parameters ``params="auto"`` chooses for a payload of ``n_data`` bits (:mod:`.auto`)."""
+    ``weld=False``: with the parameters ``params="auto"`` (the default) chooses for a payload of
+    ``n_data`` bits (:mod:`.auto`; without ``n_data``, its first rung: the published numbers with the
+    method's default carrier), or with the published parameters and carrier (``params="thesis"``)."""
     mesh = as_mesh(V, F)
     w = _weld(mesh, weld)
     mesh = w.mesh if w is not None else mesh

@@ -225,7 +225,7 @@ framework.register(METHOD)
 
 
 def capacity(V, F=None, **params) -> int:
-    """Number of valid bin pairs (eq. 7.1.8) = carrier bits, before framing (16 bits) is subtracted."""
+    """Carrier bits (valid bin pairs, eq. 7.1.8) before coding; ``params``/``n_data`` as in :func:`meshmark.watermark.framework.capacity`."""
     return framework.capacity(V, F, method=NAME, **params)
 
 
