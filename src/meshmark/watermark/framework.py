@@ -58,6 +58,26 @@ def merge_params(method_name: str, defaults: dict, params: dict) -> dict:
     return {**defaults, **{k: v for k, v in params.items() if v is not None}}
 
 
+def min_detectable_carriers() -> int:
+    """The fewest carriers for which a perfect read-back is a detection: P(X >= n) = 2^-n for
+    X ~ Bin(n, 1/2) must fall below DETECTION_THRESHOLD (20 carriers for 1e-6)."""
+    n = MIN_CARRIERS
+    while false_alarm_probability(n, n) >= DETECTION_THRESHOLD:
+        n += 1
+    return n
+
+
+def check_detectable(cap: int, what: str) -> None:
+    """Refuse an embedding that could never be detected: with ``cap`` carriers even every bit read
+    back correctly gives P(false alarm) = 2^-cap, which must be below the threshold."""
+    need = min_detectable_carriers()
+    if cap < need:
+        raise MeshError(f"the mesh offers only {cap} carrier bits to {what}; a mark that small can never be "
+                        f"detected (all {cap} bits matching still has P(false alarm) = "
+                        f"{false_alarm_probability(cap, cap):.2g}, not below {DETECTION_THRESHOLD:g}): at least "
+                        f"{need} carriers are needed. Nothing was written.")
+
+
 def register(method) -> None:
     METHODS[method.name] = method
 
@@ -165,9 +185,7 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     report(0.05, "finding carriers")
     ids, side = m.carriers(mesh, p)
     cap = int(len(ids))
-    if cap < MIN_CARRIERS:
-        raise MeshError(f"the mesh offers only {cap} carrier bits to the {method} method with {m.describe(p)}; "
-                        f"at least {MIN_CARRIERS} are needed")
+    check_detectable(cap, f"the {method} method with {m.describe(p)}")
     if pl.frame_bits > cap:
         raise MeshError(f"the message needs {pl.frame_bits} bits ({pl.data.size} data + {OVERHEAD_BITS} framing) but "
                         f"the mesh can carry {cap} bits with the {method} method ({m.describe(p)})")

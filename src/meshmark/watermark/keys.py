@@ -24,7 +24,8 @@ def check_key(key) -> str:
         key = str(key)
     if not isinstance(key, str) or not key:
         raise MeshError("the key must be a non-empty string (or an integer seed)")
-    return key
+    from ..ranges import check_text
+    return check_text("key", key)
 
 
 def random_key() -> str:
