@@ -150,8 +150,8 @@ def test_keyfile_validation(marked_bunny, tmp_path):
     assert load_keyfile(path).to_dict() == r.keyfile.to_dict()
     d = json.loads(path.read_text())
     for change, msg in [({"method": "radial-x"}, "unknown method 'radial-x'"),
-                        ({"version": 3}, "keyfile version 3 is not supported"),
-                        ({"weld": "yes"}, "'weld' is missing or not true/false"),
+                        ({"version": 4}, "keyfile version 4 is not supported"),
+                        ({"weld": "yes"}, "field 'weld' must be a bool, got 'yes'"),
                         ({"format": "other"}, "not a meshmark keyfile")]:
         bad = tmp_path / "bad.json"
         bad.write_text(json.dumps({**d, **change}))

@@ -203,49 +203,72 @@ def _progress_bar(as_json: bool):
 @_method_options
 @click.option("--message", help="Text message to hide (UTF-8, at most 31 bytes).")
 @click.option("--bits", help="Raw bit string to hide, e.g. 0110.")
-@click.option("--key", required=True, help="Secret key (keep it; it is also stored in the keyfile).")
+@click.option("--key", required=True, help="Secret key (keep it; it is also stored in the keyfile unless --no-store-key).")
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Where to write the keyfile (JSON).")
+@click.option("--store-key/--no-store-key", "store_key", default=True, show_default=True,
+              help="Keep the key in the keyfile; with --no-store-key, extract needs --key (or asks for it).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def embed(inp, out, method, message, bits, key, keyfile, as_json, **method_params):
-    """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile."""
+def embed(inp, out, method, message, bits, key, keyfile, store_key, as_json, **method_params):
+    """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile.
+
+    Both files are written, or neither: the folders are checked before any work, then both go to
+    temporary files that are renamed only when both are complete.
+    """
     from . import read_mesh, write_mesh
+    from .atomic import check_writable, write_all
     from .watermark import embed as wm_embed, save_keyfile
     from .watermark.payload import Payload
 
     if (message is None) == (bits is None):
         raise MeshError("give exactly one of --message TEXT or --bits 0110...")
+    check_writable(out, "marked mesh")
+    check_writable(keyfile, "keyfile")
     payload = Payload.from_text(message) if message is not None else Payload.from_bits(bits)
     mesh, fmt = read_mesh(inp, return_info=True)
     report, bar = _progress_bar(as_json)
     try:
-        res = wm_embed(mesh, payload=payload, key=key, method=method, progress=report,
+        res = wm_embed(mesh, payload=payload, key=key, method=method, progress=report, store_key=store_key,
                        **_params(**method_params))
     finally:
         if bar is not None:
             bar.__exit__(None, None, None)
-    write_mesh(out, res.V, mesh, float32=bool(fmt["float32"]) and out.lower().endswith(".ply"))
-    save_keyfile(res.keyfile, keyfile)
-    d = {"input": inp, "output": out, "keyfile": keyfile, **res.to_dict()}
+    float32 = bool(fmt["float32"]) and out.lower().endswith(".ply")
+    write_all([(out, lambda p: write_mesh(p, res.V, mesh, float32=float32)),
+               (keyfile, lambda p: save_keyfile(res.keyfile, p))], what=["marked mesh", "keyfile"])
+    d = {"input": inp, "output": out, "keyfile": keyfile, "key_stored": store_key, **res.to_dict()}
     text = (f"embedded {payload.data.size} payload bits ({res.keyfile.coding['frame_bits']} framed, repeated over "
-            f"{res.capacity} carriers) with the {method} method into {out}\nkeyfile: {keyfile} (keep it private)")
+            f"{res.capacity} carriers) with the {method} method into {out}\nkeyfile: {keyfile} (keep it private"
+            + ("" if store_key else "; it does not hold the key: extract needs --key") + ")")
     _emit(d, as_json, text)
 
 
 @main.command()
 @click.argument("inp", metavar="IN")
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Keyfile written by embed.")
-@click.option("--key", default=None, help="Use this key instead of the keyfile's.")
+@click.option("--key", default=None, help="Use this key instead of the keyfile's; needed when the keyfile holds "
+                                          "no key (asked for on a terminal).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def extract(inp, keyfile, key, as_json):
     """Extract and detect the watermark of --keyfile in IN (blind: the original is not needed).
 
+    The keyfile is checked first (schema, then its HMAC-SHA256 tag): a changed keyfile, or a wrong
+    key for a keyfile written with --no-store-key, is an error (status 2).
+
     Exit status: 0 watermark detected, 1 not detected, 2 usage/input error, 3 internal error.
     """
     from . import read_mesh
-    from .watermark import extract as wm_extract
+    from .watermark import extract as wm_extract, load_keyfile
+    from .watermark.keyfile import KeyRequired
 
+    try:
+        kf = load_keyfile(keyfile, key=key)
+    except KeyRequired:
+        if not sys.stdin.isatty():
+            raise
+        key = click.prompt("key", hide_input=True)
+        kf = load_keyfile(keyfile, key=key)
     mesh = read_mesh(inp)
-    res = wm_extract(mesh, keyfile=keyfile, key=key)
+    res = wm_extract(mesh, keyfile=kf, key=key)
     d = {"input": inp, **res.to_dict()}
     lines = [f"watermark {'DETECTED' if res.detected else 'not detected'} in {inp}",
              f"bits matched {res.matches}/{res.n_bits}  NC {res.nc:.3f}  CDR {res.cdr:.3f}  "
@@ -253,7 +276,7 @@ def extract(inp, keyfile, key, as_json):
              f"message: {res.message!r}" if res.message_ok else f"message not recovered ({res.reason})"]
     lines += [f"warning: {w}" for w in res.warnings]
     _emit(d, as_json, "\n".join(lines))
-    sys.exit(0 if res.detected else 1)
+    sys.exit(EXIT_DETECTED if res.detected else EXIT_NOT_DETECTED)
 
 
 @main.command()

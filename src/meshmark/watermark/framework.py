@@ -163,7 +163,7 @@ def _expected(payload: Payload, key: str, method: str, n: int):
 
 
 def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress=None, weld: bool = True,
-          **params) -> EmbedResult:
+          store_key: bool = True, **params) -> EmbedResult:
     """Embed ``payload`` (text, bit string or Payload) under ``key`` with ``method``.
 
     Returns an :class:`EmbedResult` with the marked vertices (one row per input vertex, in input
@@ -172,10 +172,13 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     position (copies that were bit-identical stay bit-identical). Raises MeshError (nothing
     changed) when the mesh is invalid, offers fewer than 8 carriers, or the framed message does not
     fit (the message states the capacity in bits).
-    ``progress(fraction, text)`` is called as the work advances, if given.
+    ``progress(fraction, text)`` is called as the work advances, if given. With ``store_key=False``
+    the written keyfile leaves the key out (extraction then needs ``key=``).
     """
     report = progress or (lambda f, t: None)
     mesh_in = as_mesh(V, F)
+    from ..ranges import check_bool
+    store_key = check_bool("store_key", store_key)
     m = _method(method)
     key = _keys.check_key(key)
     pl = Payload.coerce(payload)
@@ -210,7 +213,7 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
                         f"wrong after {MAX_ROUNDS} rounds ({m.describe(p)}); nothing was changed. Try other parameters.")
     report(0.95, "writing keyfile")
     bits = pl.bitstring()
-    kf = Keyfile(method=method, params=p, key=key, weld=bool(weld),
+    kf = Keyfile(method=method, params=p, key=key, weld=bool(weld), store_key=store_key,
                  payload={"kind": pl.kind, "n_bits": pl.data.size, "bits": bits,
                           "sha256": hashlib.sha256(bits.encode()).hexdigest()},
                  coding={"scheme": "repeat", "frame_bits": pl.frame_bits, "n_coded": cap},
@@ -229,7 +232,9 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
 def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
     """Extract and detect the watermark described by ``keyfile`` (a path or Keyfile).
 
-    ``key`` overrides the keyfile's key (to test a key). The mesh may differ from the marked one
+    ``key`` overrides the keyfile's key (to test a key), and is required when the keyfile was written
+    without it (``store_key=False``); the keyfile's HMAC tag is checked first (a changed keyfile, or a
+    wrong key for a key-less keyfile, is a MeshError). The mesh may differ from the marked one
     (attacked, deformed, re-exported): extraction is blind and never needs the original mesh. If the
     keyfile says so (``weld``), coincident vertices are welded first, exactly as at embedding.
     """
@@ -237,7 +242,7 @@ def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
     mesh = as_mesh(V, F)
     if keyfile is None:
         raise MeshError("a keyfile is required to extract")
-    kf = load_keyfile(keyfile)
+    kf = load_keyfile(keyfile, key=key)  # schema, then the HMAC tag (with the given key if none is stored)
     m = _method(kf.method)
     key = _keys.check_key(kf.key if key is None else key)
     w = _weld(mesh, kf.weld)
