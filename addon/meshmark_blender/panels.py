@@ -54,6 +54,7 @@ class MESHMARK_PT_sidebar(bpy.types.Panel):
         col.prop(s, "weld")
         layout.prop(s, "message")
         layout.prop(s, "key")
+        layout.prop(s, "store_key")
         row = layout.row(align=True)
         row.label(text=capacity_line(context, obj, s), icon="INFO")
         row.operator("meshmark.capacity", text="", icon="FILE_REFRESH")
