@@ -25,4 +25,5 @@ def test_fuzz_readers_2000_cases(tmp_path):
     assert d["counts"].get("ok", 0) >= 50 and d["counts"].get("meshError", 0) >= 1000, d["counts"]
     assert d["failures"] == [], json.dumps(d["failures"][:5], indent=1)
     assert r.returncode == 0
-    print(f"fuzz: {d['counts']} in {d['seconds']} s; largest RSS growth {d['largest_growth']}")
+    print(f"fuzz: {d['counts']} in {d['seconds']} s; closest to the budget {d['closest_to_budget']}; "
+          f"largest growth per byte (files over 100 kB) {d['largest_growth_per_byte_of_files_over_100kB']}")
