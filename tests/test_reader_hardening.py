@@ -64,7 +64,7 @@ PLY_TAIL = "element face 1\nproperty list uchar int vertex_indices\nend_header\n
 BAD_PLY = [
     ("z is a list", PLY_HEAD + "property float x\nproperty float y\nproperty list uchar float z\n" + PLY_TAIL,
      r"PLY header line 6: vertex coordinate 'z' is declared as a list"),
-    ("property before element", "ply\nformat ascii 1.0\nproperty float x\n" + PLY_HEAD[19:] + PLY_TAIL,
+    ("property before element", "ply\nformat ascii 1.0\nproperty float x\n" + PLY_HEAD[21:] + PLY_TAIL,
      r"PLY header line 3: 'property' before any 'element'"),
     ("no coordinates", PLY_HEAD + "property float a\nproperty float b\nproperty float c\n" + PLY_TAIL,
      r"PLY header line 3: element 'vertex' has no 'x' property"),
@@ -190,3 +190,24 @@ def test_counts_are_checked_before_allocating(tmp_path, name, fname, content, me
     import re
     assert re.search(message, d["out"]), d["out"]
     assert d["grew_kb"] < 16 * 1024, d  # far below the gigabytes CGAL's readers took
+
+
+def test_long_header_and_huge_polygon(tmp_path):
+    """A legal PLY with 200,000 comment lines reads (the header is bounded by the file, not a line
+    count); one face of 100,000 corners is checked for repeats in O(k log k) (the quadratic scan took
+    minutes per million corners), and a repeat in it is found."""
+    p = tmp_path / "c.ply"
+    p.write_bytes(b"ply\nformat ascii 1.0\n" + b"comment x\n" * 200000 + PLY_HEAD[21:].encode() +
+                  b"property float x\nproperty float y\nproperty float z\n" + PLY_TAIL.encode())
+    assert meshmark.read_mesh(p).n_faces == 1
+    n = 100000
+    verts = b"".join(b"v %d %d 0\n" % (i % 1000, i // 1000) for i in range(n))
+    q = tmp_path / "poly.obj"
+    q.write_bytes(verts + b"f " + b" ".join(b"%d" % (i + 1) for i in range(n)) + b"\n")
+    m = meshmark.read_mesh(q)
+    assert m.face_sizes.tolist() == [n] and meshmark.mesh_info(m)["n_faces"] == 1
+    q.write_bytes(verts + b"f " + b" ".join(b"%d" % (i + 1) for i in range(n)) + b" 5\n")
+    with pytest.raises(MeshError, match=r"face 0 \(0, 1, 2, 3, 4, 5, 6, 7, \.\.\.\) repeats vertex 4"):
+        meshmark.read_mesh(q, drop_collapsed=False)
+    with pytest.raises(MeshError, match="mesh has no faces"):
+        meshmark.read_mesh(q)  # the collapsed face is dropped, and nothing is left

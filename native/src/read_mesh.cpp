@@ -520,7 +520,6 @@ void read_ply(const Reader& r, const std::string& data, MeshFile& out) {
     } else {
       r.fail(hl + "unknown PLY header keyword '" + printable(kw, 40) + "'");
     }
-    if (L.line > 100000) break;
   }
   if (!ended) r.fail("PLY header has no 'end_header' line (truncated or not a PLY file)");
   if (format.empty()) r.fail("PLY header has no 'format' line");
