@@ -10,6 +10,7 @@ still decodes, and the distortion of each embedding (vertex RMSE / bounding-box 
 attacker's cost can be compared with the owner's.
 
     .venv/bin/python examples/overmarking.py [--out out/overmarking.csv] [--attackers 3]
+        [--owner-key-bins] [--attacker-key-bins]     # key-dependent bin placement (docs/security.md §5)
 """
 import argparse
 import sys
@@ -27,7 +28,7 @@ MESHES = ["classic/bunny.obj", "classic/horse.ply", "classic/hand.obj"]
 METHODS = ["laplacian", "cho-mean", "cho-variance", "radial"]
 
 
-def run(meshes=MESHES, methods=METHODS, attackers=3):
+def run(meshes=MESHES, methods=METHODS, attackers=3, owner_key_bins=False, attacker_key_bins=False):
     rows = []
     for rel in meshes:
         m = meshmark.read_mesh(SHARED / rel)
@@ -35,7 +36,7 @@ def run(meshes=MESHES, methods=METHODS, attackers=3):
         for method in methods:
             t0 = time.time()
             try:
-                own = W.embed(m, payload=[1, 0, 1, 1, 0], key="owner-key-A", method=method)
+                own = W.embed(m, payload=[1, 0, 1, 1, 0], key="owner-key-A", method=method, key_bins=owner_key_bins)
             except meshmark.MeshError as exc:
                 rows.append({"mesh": rel, "method": method, "error": str(exc)[:120]})
                 continue
@@ -43,7 +44,8 @@ def run(meshes=MESHES, methods=METHODS, attackers=3):
             base = W.extract(marked, keyfile=own.keyfile)
             for a in range(attackers):
                 try:
-                    att = W.embed(marked, payload=[0, 1, 0, 0, 1], key=f"attacker-key-{a}", method=method)
+                    att = W.embed(marked, payload=[0, 1, 0, 0, 1], key=f"attacker-key-{a}", method=method,
+                                  key_bins=attacker_key_bins)
                 except meshmark.MeshError as exc:
                     rows.append({"mesh": rel, "method": method, "attacker": a, "error": str(exc)[:120]})
                     continue
@@ -52,6 +54,7 @@ def run(meshes=MESHES, methods=METHODS, attackers=3):
                 y = W.extract(over, keyfile=att.keyfile)
                 rows.append({
                     "mesh": rel, "method": method, "attacker": a, "carriers": own.capacity,
+                    "owner_K": own.keyfile.params["K"], "attacker_K": att.keyfile.params["K"],
                     "owner_detected_before": base.detected,
                     "owner_detected_after": x.detected, "owner_cdr_after": round(x.cdr, 4),
                     "owner_p_after": x.p_false_alarm, "owner_message_ok_after": x.message_ok,
@@ -72,8 +75,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="out/overmarking.csv")
     ap.add_argument("--attackers", type=int, default=3)
+    ap.add_argument("--owner-key-bins", action="store_true", help="the owner embeds with key_bins=True")
+    ap.add_argument("--attacker-key-bins", action="store_true", help="the attackers embed with key_bins=True")
     a = ap.parse_args()
-    rows = run(attackers=a.attackers)
+    rows = run(attackers=a.attackers, owner_key_bins=a.owner_key_bins, attacker_key_bins=a.attacker_key_bins)
     ok = [r for r in rows if not r.get("error")]
     survived = sum(r["owner_detected_after"] for r in ok)
     cases = {(r["mesh"], r["method"]) for r in ok}

@@ -205,10 +205,13 @@ def _progress_bar(as_json: bool):
 @click.option("--bits", help="Raw bit string to hide, e.g. 0110.")
 @click.option("--key", required=True, help="Secret key (keep it; it is also stored in the keyfile unless --no-store-key).")
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Where to write the keyfile (JSON).")
+@click.option("--key-bins", "key_bins", is_flag=True, default=False,
+              help="Move the default bin count K by a key-derived 3-12 % so another embedder's bins do not align "
+                   "with yours (the mark survives overmarking more often; docs/security.md).")
 @click.option("--store-key/--no-store-key", "store_key", default=True, show_default=True,
               help="Keep the key in the keyfile; with --no-store-key, extract needs --key (or asks for it).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def embed(inp, out, method, message, bits, key, keyfile, store_key, as_json, **method_params):
+def embed(inp, out, method, message, bits, key, keyfile, store_key, key_bins, as_json, **method_params):
     """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile.
 
     Both files are written, or neither: the folders are checked before any work, then both go to
@@ -228,7 +231,7 @@ def embed(inp, out, method, message, bits, key, keyfile, store_key, as_json, **m
     report, bar = _progress_bar(as_json)
     try:
         res = wm_embed(mesh, payload=payload, key=key, method=method, progress=report, store_key=store_key,
-                       **_params(**method_params))
+                       key_bins=key_bins, **_params(**method_params))
     finally:
         if bar is not None:
             bar.__exit__(None, None, None)

@@ -163,7 +163,7 @@ def _expected(payload: Payload, key: str, method: str, n: int):
 
 
 def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress=None, weld: bool = True,
-          store_key: bool = True, **params) -> EmbedResult:
+          store_key: bool = True, key_bins: bool = False, **params) -> EmbedResult:
     """Embed ``payload`` (text, bit string or Payload) under ``key`` with ``method``.
 
     Returns an :class:`EmbedResult` with the marked vertices (one row per input vertex, in input
@@ -173,18 +173,26 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     changed) when the mesh is invalid, offers fewer than 8 carriers, or the framed message does not
     fit (the message states the capacity in bits).
     ``progress(fraction, text)`` is called as the work advances, if given. With ``store_key=False``
-    the written keyfile leaves the key out (extraction then needs ``key=``).
+    the written keyfile leaves the key out (extraction then needs ``key=``). With ``key_bins=True``
+    (and no ``K`` given) the method's default bin count is moved by a key-derived 3-12 %
+    (:func:`.keys.key_bins`), so a second embedder with another key uses misaligned bins and the
+    first mark survives overmarking more often (docs/security.md §5); the K used is in the keyfile.
     """
     report = progress or (lambda f, t: None)
     mesh_in = as_mesh(V, F)
     from ..ranges import check_bool
     store_key = check_bool("store_key", store_key)
+    key_bins = check_bool("key_bins", key_bins)
     m = _method(method)
     key = _keys.check_key(key)
     pl = Payload.coerce(payload)
     w = _weld(mesh_in, weld)
     mesh = w.mesh if w is not None else mesh_in
     p = m.resolve(mesh, params)
+    if key_bins:
+        if params.get("K") is not None:
+            raise MeshError("key_bins chooses the bin count K from the key: do not give K as well")
+        p = m.resolve(mesh, {**params, "K": _keys.key_bins(key, method, int(p["K"]))})
     report(0.05, "finding carriers")
     ids, side = m.carriers(mesh, p)
     cap = int(len(ids))
@@ -208,6 +216,8 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
         if todo.size == 0:
             break
     stats["rounds"] = rnd + 1
+    if key_bins:
+        stats["key_bins"] = True
     if todo.size:
         raise MeshError(f"the {method} mark does not take on this mesh: {todo.size} of {cap} carrier bits still read "
                         f"wrong after {MAX_ROUNDS} rounds ({m.describe(p)}); nothing was changed. Try other parameters.")
