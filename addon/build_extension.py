@@ -2,17 +2,18 @@
 
     python addon/build_extension.py                 # builds the wheel (pip wheel .) then the zip
     python addon/build_extension.py --wheel W.whl   # use an existing meshmark wheel
+    python addon/build_extension.py --legacy        # dist/meshmark_blender-<version>-legacy.zip only
 
 Output: dist/meshmark-<version>.zip (install in Blender 4.2+: Edit > Preferences > Get Extensions >
-(menu) Install from Disk..., or `blender --command extension install-file -r user_default <zip>`),
-and dist/meshmark-<version>-legacy-addon.zip for Blender 3.x/4.1 (Edit > Preferences > Add-ons >
-Install...): a zip whose single top-level folder is the add-on, meshmark_blender/ (the meshmark
-package must be installed in that Blender's Python; its wheel is built for Python 3.11).
+(menu) Install from Disk..., or `blender --command extension install-file -r user_default <zip>`).
+The legacy zip (Blender < 4.2: Edit > Preferences > Add-ons > Install..., or
+`bpy.ops.preferences.addon_install`) holds the package folder `meshmark_blender/` and no wheel: the
+older Blender's Python must import meshmark itself (e.g. PYTHONPATH).
 
 On Linux the wheel is repaired with auditwheel (SuiteSparse/CHOLMOD, METIS, OpenBLAS, gfortran and
 libgomp copied into the wheel with their RPATHs rewritten, tag manylinux_2_X), so the extension runs
 without Debian's libraries; docs/security.md ("Portable builds") says how cibuildwheel does the same
-with delocate (macOS) and delvewheel (Windows).
+with delocate (macOS) and delvewheel (Windows). A normal build also writes the legacy zip.
 The manifest is validated, and the zip built, by Blender's own extension tool (`blender_ext.py`, the
 code behind `blender --command extension validate|build`), found in the bpy module or a Blender
 binary; without either the zip is built with zipfile and only the TOML is parsed.
@@ -79,18 +80,6 @@ def repair_wheel(wheel: str, out: str) -> str:
     return wheels[0]
 
 
-def build_legacy_zip(path: str) -> None:
-    """The add-on for Blender's legacy Install...: one top-level folder, meshmark_blender/."""
-    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
-        for d, dirs, files in os.walk(SRC):
-            dirs[:] = [x for x in dirs if x not in ("__pycache__", "wheels")]
-            for f in sorted(files):
-                if f.endswith((".pyc", ".zip")):
-                    continue
-                p = os.path.join(d, f)
-                z.write(p, os.path.join("meshmark_blender", os.path.relpath(p, SRC)))
-
-
 def platform_of(wheel: str) -> str:
     tag = os.path.basename(wheel).rsplit("-", 1)[-1]
     for pat, plat in (("linux_x86_64|manylinux.*x86_64", "linux-x64"), ("linux.*aarch64", "linux-arm64"),
@@ -98,6 +87,21 @@ def platform_of(wheel: str) -> str:
         if re.search(pat, tag):
             return plat
     raise SystemExit(f"build_extension: unknown wheel platform {tag}")
+
+
+def legacy_zip(out: str) -> str:
+    """The legacy add-on zip (``meshmark_blender/`` with ``bl_info``, no wheel): its path."""
+    m = tomllib.loads(open(os.path.join(SRC, "blender_manifest.toml"), encoding="utf-8").read())
+    path = os.path.join(out, f"meshmark_blender-{m['version']}-legacy.zip")
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        for d, dirs, files in os.walk(SRC):
+            dirs[:] = [x for x in dirs if x not in ("__pycache__", "wheels")]
+            for f in files:
+                if f.endswith(".pyc") or f == "blender_manifest.toml":
+                    continue
+                p = os.path.join(d, f)
+                z.write(p, os.path.join("meshmark_blender", os.path.relpath(p, SRC)))
+    return path
 
 
 CHECK = """
@@ -137,11 +141,16 @@ def main(argv=None):
     ap.add_argument("--check", action="store_true",
                     help="install the zip into a temporary Blender user directory and run an operator")
     ap.add_argument("--out", default=os.path.join(ROOT, "dist"), help="output directory (default dist/)")
+    ap.add_argument("--legacy", action="store_true",
+                    help="build only the legacy add-on zip for Blender < 4.2 (no wheel)")
     ap.add_argument("--no-repair", action="store_true", help="keep the wheel as built (linux_x86_64, system libraries)")
     ap.add_argument("--reuse-dev-build", action="store_true",
                     help="build the wheel in build/py (the bootstrap's tree, tests on): no recompilation")
     a = ap.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
+    if a.legacy:
+        print(f"build_extension: {legacy_zip(a.out)}")
+        return 0
     wheel = os.path.abspath(a.wheel) if a.wheel else build_wheel(os.path.join(ROOT, "build", "ext-wheels"),
                                                                  a.reuse_dev_build)
     if sys.platform.startswith("linux") and not a.no_repair and "manylinux" not in os.path.basename(wheel):
@@ -170,8 +179,7 @@ def main(argv=None):
                     for f in files:
                         p = os.path.join(d, f)
                         z.write(p, os.path.relpath(p, stage))
-    legacy = os.path.join(a.out, f"{m['id']}-{m['version']}-legacy-addon.zip")
-    build_legacy_zip(legacy)
+    legacy = legacy_zip(a.out)
     print(f"build_extension: {os.path.join(a.out, name)} (wheel {os.path.basename(wheel)}), {legacy}")
     if a.check:
         check_install(os.path.join(a.out, name))

@@ -1,5 +1,6 @@
-"""Time of the add-on's embed and verify operators against the native calls they wrap, on a mesh of
->= 100k vertices (a jittered 128 x 800 tube, 102,402 vertices), in the same process.
+"""Time of the add-on's operators (embed, verify, capacity, deformation study) against the native
+calls they wrap, on a mesh of >= 100k vertices (a jittered 128 x 800 tube, 102,402 vertices), in the
+same process; and the time of one draw of every Meshmark panel.
 
     PYTHONPATH=src python bench/blender_operators.py [--repeat 3]
 
@@ -23,7 +24,8 @@ import numpy as np  # noqa: E402
 import meshmark_blender  # noqa: E402
 import rigs  # noqa: E402
 from meshmark.shapes import cylinder  # noqa: E402
-from meshmark.watermark import embed, extract  # noqa: E402
+from meshmark.watermark import capacity, embed, extract  # noqa: E402
+import ui_layout  # noqa: E402
 
 
 def best(f, n):
@@ -63,12 +65,53 @@ def main():
     marked = m.with_vertices(rigs.base_coords(obj).astype(np.float64))
     t_nat_v = best(lambda: extract(marked, keyfile=kf), a.repeat)
     r = rigs.last_result()
+    t_op_c = best(lambda: bpy.ops.meshmark.capacity(), a.repeat)
+    t_nat_c = best(lambda: capacity(base), a.repeat)
+    # the study over 5 frames of a bend (Simple Deform keyframed): the operator vs 5 native extractions
+    mod = obj.modifiers.new("Bend", "SIMPLE_DEFORM")
+    mod.deform_method = "BEND"
+    for f, deg in ((1, 0.0), (5, 20.0)):
+        mod.angle = np.radians(deg)
+        obj.keyframe_insert('modifiers["Bend"].angle', frame=f)
+    out = tempfile.mkdtemp()
+    t_op_s = best(lambda: bpy.ops.meshmark.deformation_study(keyfile=kf, frame_start=1, frame_end=5, output_dir=out),
+                  a.repeat)
+    evaluated = []
+    for f in range(1, 6):
+        bpy.context.scene.frame_set(f)
+        evaluated.append(m.with_vertices(_evaluated(obj)))
+    t_nat_s = best(lambda: [extract(e, keyfile=kf) for e in evaluated], a.repeat)
+    # what the study spends outside the add-on: Blender evaluating the frames, matplotlib's plot
+    t_frames = best(lambda: [(bpy.context.scene.frame_set(f), _evaluated(obj)) for f in (1, 2, 3, 4, 5, 1)], a.repeat)
+    from meshmark_blender import study
+    rows = rigs.last_result()["rows"]
+    t_plot = best(lambda: study.write_plot(rows, os.path.join(out, "p.png"), "bench"), a.repeat)
+    from meshmark_blender import panels
+    meshmark_blender.operators.CAPACITY_CACHE.clear()
+
+    def draw_all():
+        for cls in panels._registered:
+            ui_layout.draw_recorded(cls, bpy.context)
+    t_draw = best(draw_all, a.repeat)
     print(f"mesh: {m.n_vertices:,} vertices, {m.n_faces:,} faces; capacity {r['bits']} bits, CDR {r['cdr']:.3f}")
     print(f"embed: meshmark.embed inside the operator took {inner_e:.3f}s of its run")
     print(f"{'':24}{'operator':>10}{'native':>10}{'overhead':>10}")
     for name, op, nat in (("embed", t_op_e, t_nat_e), ("verify (evaluated)", t_op_v, t_nat_v),
-                          ("verify (base mesh)", t_op_vb, t_nat_v)):
+                          ("verify (base mesh)", t_op_vb, t_nat_v), ("capacity", t_op_c, t_nat_c),
+                          ("study, 5 frames", t_op_s, t_nat_s)):
         print(f"{name:24}{op:9.3f}s{nat:9.3f}s{op - nat:9.3f}s")
+    print(f"study: Blender's frame evaluation {t_frames:.3f}s, the plot (matplotlib) {t_plot:.3f}s; the rest of "
+          f"the overhead {t_op_s - t_nat_s - t_frames - t_plot:.3f}s")
+    print(f"one draw of every Meshmark panel (102k vertices: capacity on request): {t_draw * 1000:.1f} ms")
+
+
+def _evaluated(obj):
+    dg = bpy.context.evaluated_depsgraph_get()
+    me = obj.evaluated_get(dg).to_mesh()
+    co = np.empty(3 * len(me.vertices), np.float32)
+    me.vertices.foreach_get("co", co)
+    obj.evaluated_get(dg).to_mesh_clear()
+    return co.reshape(-1, 3).astype(np.float64)
 
 
 if __name__ == "__main__":

@@ -58,19 +58,32 @@ def test_mesh_too_small(addon, tmp_path):
     bpy.ops.mesh.primitive_cube_add()
     cube = bpy.context.active_object
     V0 = _coords(cube)
-    _fails(bpy.ops.meshmark.embed, "too small", message="x", key="k", keyfile=str(tmp_path / "k.json"))
+    # in the user's words, with the parameters named as the panel names them
+    _fails(bpy.ops.meshmark.embed, "^Error: meshmark: mesh too small to carry a mark", message="x", key="k",
+           keyfile=str(tmp_path / "k.json"))
+    err = _fails(bpy.ops.meshmark.embed, "mesh too small to carry a mark", message="x", key="k", K=4, n_thr=1,
+                 keyfile=str(tmp_path / "k.json"))  # the cube's Laplacian lengths are all equal
+    assert "Laplacian" not in err and "range" not in err
+    err = _fails(bpy.ops.meshmark.embed, "mesh too small to carry a mark: 8 vertices for 64 Bins", method="cho-mean",
+                 message="x", key="k", keyfile=str(tmp_path / "k.json"))
     bpy.ops.mesh.primitive_uv_sphere_add()
     sphere = bpy.context.active_object
     S0 = _coords(sphere)
-    _fails(bpy.ops.meshmark.embed, "offers only", message="x", key="k", keyfile=str(tmp_path / "k.json"))
+    err = _fails(bpy.ops.meshmark.embed, "mesh too small to carry a mark: it offers only", message="x", key="k",
+                 keyfile=str(tmp_path / "k.json"))
+    assert "offers only 0 of the 8 bits" in err and "(Bins 7, Min. pair size 46)" in err and "n_thr" not in err and "K=" not in err
+    _fails(bpy.ops.meshmark.embed, "Min. pair size must be", message="x", key="k", K=20, n_thr=0,
+           keyfile=str(tmp_path / "k.json"))
     assert np.array_equal(_coords(cube), V0) and np.array_equal(_coords(sphere), S0)
+    assert not (tmp_path / "k.json").exists()
 
 
 def test_message_longer_than_capacity(elephant, tmp_path):
     V0 = _coords(elephant)
     err = _fails(bpy.ops.meshmark.embed, "can carry 44 bits", message="ACME 2024", key="k",
                  keyfile=str(tmp_path / "k.json"))
-    assert "needs 88 bits" in err
+    assert "needs 88 bits" in err and "(Bins 286, Min. pair size 46)" in err and "at most 3 bytes of text fit" in err
+    assert err.startswith("message too long for this mesh")
     _fails(bpy.ops.meshmark.embed, "at most 31 bytes", message="x" * 40, key="k", keyfile=str(tmp_path / "k.json"))
     _fails(bpy.ops.meshmark.embed, "message is empty", message="", key="k", keyfile=str(tmp_path / "k.json"))
     _fails(bpy.ops.meshmark.embed, "key is empty", message="E", key="", keyfile=str(tmp_path / "k.json"))

@@ -84,7 +84,7 @@ def test_wheel_is_manylinux(dist):
 
 
 def test_legacy_zip_has_one_top_level_folder(dist):
-    legacy = next(dist.glob("meshmark-*-legacy-addon.zip"))
+    legacy = next(dist.glob("meshmark_blender-*-legacy.zip"))
     with zipfile.ZipFile(legacy) as z:
         names = z.namelist()
     assert {n.split("/")[0] for n in names} == {"meshmark_blender"}

@@ -24,7 +24,7 @@ bl_info = {
 
 if "bpy" in locals():  # "Reload Scripts": reload the submodules too
     import importlib
-    for _m in ("bridge", "study", "params", "properties", "operators", "panels"):
+    for _m in ("bridge", "study", "params", "messages", "properties", "operators", "panels"):
         if _m in locals():
             importlib.reload(locals()[_m])
 
@@ -39,7 +39,7 @@ except ImportError as exc:  # report at register time instead of failing on impo
     _IMPORT_ERROR = exc
 
 if _IMPORT_ERROR is None:
-    from . import bridge, study, params, properties, operators, panels  # noqa: E402,F401
+    from . import bridge, study, params, messages, properties, operators, panels  # noqa: E402,F401
 
 
 def register():

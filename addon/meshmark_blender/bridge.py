@@ -29,16 +29,31 @@ def _coords(collection, n: int) -> np.ndarray:
     return co.reshape(n, 3)
 
 
+def _loop_vertices(me, c: int) -> np.ndarray:
+    """(c,) int32 vertex of every loop. Blender 4+ stores them as the ``.corner_vert`` attribute,
+    whose foreach_get copies the array (0.3 ms for 800k loops); ``loops.vertex_index`` goes through RNA
+    per loop (0.1-0.15 s)."""
+    loops = np.empty(c, np.int32)
+    attr = me.attributes.get(".corner_vert") if bpy.app.version >= (4, 0, 0) else None
+    if attr is not None and attr.domain == "CORNER" and attr.data_type == "INT" and len(attr.data) == c:
+        attr.data.foreach_get("value", loops)
+    else:
+        me.loops.foreach_get("vertex_index", loops)
+    return loops
+
+
 def faces(me):
     """(loop vertex indices int32, offsets int64) of a Blender mesh (polygons as stored)."""
     m, c = len(me.polygons), len(me.loops)
-    loops = np.empty(c, np.int32)
-    me.loops.foreach_get("vertex_index", loops)
-    totals = np.empty(m, np.int32)
-    me.polygons.foreach_get("loop_total", totals)
+    loops = _loop_vertices(me, c)
     starts = np.empty(m, np.int32)
     me.polygons.foreach_get("loop_start", starts)
     offsets = np.zeros(m + 1, np.int64)
+    if bpy.app.version >= (4, 0, 0):  # polygons are offsets into the loops, in order (4.0+)
+        offsets[:-1], offsets[-1] = starts, c
+        return loops, offsets
+    totals = np.empty(m, np.int32)
+    me.polygons.foreach_get("loop_total", totals)
     np.cumsum(totals, out=offsets[1:])
     if m and not (starts == offsets[:-1]).all():  # Blender keeps loops in polygon order; be safe
         order = np.argsort(starts, kind="stable")

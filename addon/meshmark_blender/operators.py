@@ -25,7 +25,7 @@ from meshmark.watermark import load_keyfile, save_keyfile
 from meshmark.watermark.keyfile import KeyRequired
 from meshmark.watermark.payload import OVERHEAD_BITS, Payload
 
-from . import bridge, properties, study
+from . import bridge, messages, properties, study
 from . import params as _params
 
 # Session state kept out of the .blend: the last keyfile made by Embed (for "Save keyfile") and the
@@ -66,6 +66,14 @@ class _Progress:
         self.wm.progress_end()
 
 
+def operator_id(name: str) -> str:
+    """``meshmark.verify`` for ``MESHMARK_OT_verify`` (Blender's internal form of an idname)."""
+    if "_OT_" in name:
+        mod, op = name.split("_OT_", 1)
+        return f"{mod.lower()}.{op}"
+    return name
+
+
 class _Base:
     bl_options = {"REGISTER", "UNDO"}
 
@@ -84,18 +92,34 @@ class _Base:
         return p
 
     def finish(self, context, result: dict, level: str, text: str):
+        result = {"operator": operator_id(self.bl_idname), **result}
         context.scene.meshmark.last_result = json.dumps(result, default=_json_default)
         self.report({level}, text)
         return {"FINISHED"}
 
+    def error_method(self, context):
+        """The method an error message is about (to name its parameters as the panel does)."""
+        try:
+            return self.arg(context, "method") if "method" in self.properties.bl_rna.properties else None
+        except Exception:  # pragma: no cover
+            return None
+
+    def draw(self, context):
+        """The redo panel and the file browser's side panel: no second copy of the panel's fields
+        (the operator takes its values from the Meshmark panel)."""
+        self.layout.label(text="Settings: Meshmark panel", icon="INFO")
+
     def fail(self, context, exc):
         if isinstance(exc, _EXPECTED):
-            msg = str(exc)
+            msg = messages.friendly(str(exc), self.error_method(context))
         else:  # a bug: keep Blender alive, say so, and keep the traceback in the console
             traceback.print_exc()
             msg = f"internal error ({type(exc).__name__}: {exc}); the mesh was not changed"
         try:
-            context.scene.meshmark.last_result = json.dumps({"ok": False, "error": msg})
+            obj = getattr(context, "active_object", None)
+            context.scene.meshmark.last_result = json.dumps({
+                "operator": operator_id(self.bl_idname), "ok": False, "error": msg,
+                "object": obj.name if obj is not None else None})
         except Exception:  # pragma: no cover - e.g. a read-only context
             pass
         self.report({"ERROR"}, f"meshmark: {msg}")
@@ -126,9 +150,9 @@ def _method_arg():
 
 
 def _weld_arg():
-    return BoolProperty(name="Weld", default=True, options={"SKIP_SAVE"},
-                        description="Merge vertices at exactly equal positions (UV seams, flat shading, "
-                                    "non-indexed glTF) before marking; every copy gets the same mark")
+    return BoolProperty(name="Weld split vertices", default=True, options={"SKIP_SAVE"},
+                        description="Treat vertices at exactly the same place (UV seams, flat shading, "
+                                    "glTF exports) as one, so the model never cracks open")
 
 
 def _add_method_params(cls):
@@ -146,7 +170,7 @@ def _check_text(message: str, kind="text"):
 
 # ---------------------------------------------------------------------------------------------
 class MESHMARK_OT_embed(_Base, bpy.types.Operator):
-    """Embed the message into the active mesh with the chosen method and key; write the keyfile"""
+    """Hide the message in the active mesh with the chosen method and key, and write the keyfile"""
     bl_idname = "meshmark.embed"
     bl_label = "Embed"
 
@@ -166,6 +190,16 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
             context.window_manager.fileselect_add(self)
             return {"RUNNING_MODAL"}
         return self.execute(context)
+
+    def draw(self, context):
+        """The file browser's side panel: what will be marked, not a second set of empty fields."""
+        obj = context.active_object
+        col = self.layout.column()
+        col.label(text=obj.name if obj is not None else "No active object", icon="MESH_DATA")
+        col.label(text=_params.method_label(self.arg(context, "method")), icon="MOD_SMOOTH")
+        col.label(text=f"{len(self.arg(context, 'message').encode())}-byte message" if not self.bits
+                  else f"{len(self.bits)} bits", icon="FONT_DATA")
+        col.label(text="Key: " + ("set" if self.arg(context, "key") else "missing"), icon="KEY_HLT")
 
     def run(self, context):
         obj = bridge.active_mesh_object(context)
@@ -215,13 +249,14 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
 
 # ---------------------------------------------------------------------------------------------
 class MESHMARK_OT_verify(_Base, bpy.types.Operator):
-    """Extract the watermark of the keyfile from the active mesh (as deformed now, or its base mesh)"""
+    """Check whether the active mesh carries the keyfile's mark (as posed now, or its rest shape)"""
     bl_idname = "meshmark.verify"
     bl_label = "Verify"
 
     keyfile: StringProperty(name="Keyfile", options={"SKIP_SAVE"}, subtype="FILE_PATH")
-    evaluated: BoolProperty(name="Deformed", default=True, options={"SKIP_SAVE"},
-                            description="Verify the evaluated mesh (armature, shape keys, modifiers)")
+    evaluated: BoolProperty(name="Check as posed", default=True, options={"SKIP_SAVE"},
+                            description="Check the mesh as it looks now (armature, shape keys, modifiers) "
+                                        "rather than its rest shape")
     key: StringProperty(name="Key", options={"SKIP_SAVE"}, subtype="PASSWORD",
                         description="Use this key instead of the keyfile's (empty: the keyfile's)")
 
@@ -254,7 +289,7 @@ class MESHMARK_OT_verify(_Base, bpy.types.Operator):
             msg = (f"'{obj.name}' has {res.n_vertices} vertices{welded} but the keyfile was made for a mesh of "
                    f"{res.expected_vertices}, and its mark is not found (NC {res.nc:.3f}, CDR {res.cdr:.3f}): "
                    f"verify is run on a different mesh, or with the wrong keyfile")
-            result.update(ok=False, error=msg)
+            result.update(ok=False, error=msg, operator=operator_id(self.bl_idname))
             context.scene.meshmark.last_result = json.dumps(result, default=_json_default)
             self.report({"ERROR"}, f"meshmark: {msg}")
             return {"CANCELLED"}
@@ -288,7 +323,7 @@ def capacity_signature(obj, method, params, weld=True):
 
 
 class MESHMARK_OT_capacity(_Base, bpy.types.Operator):
-    """How many carrier bits the active mesh offers to the method, and how long a message fits"""
+    """How much text the active mesh can hold with the chosen method and settings"""
     bl_idname = "meshmark.capacity"
     bl_label = "Capacity"
 
@@ -309,7 +344,7 @@ class MESHMARK_OT_capacity(_Base, bpy.types.Operator):
 
 # ---------------------------------------------------------------------------------------------
 class MESHMARK_OT_deformation_study(_Base, bpy.types.Operator):
-    """Verify the mark at every n-th frame of a range; write a CSV, a plot and a summary"""
+    """Check the mark on every n-th frame of the animation; write a table (CSV) and a plot"""
     bl_idname = "meshmark.deformation_study"
     bl_label = "Deformation study"
 
@@ -370,13 +405,16 @@ class MESHMARK_OT_deformation_study(_Base, bpy.types.Operator):
 
 # ---------------------------------------------------------------------------------------------
 class MESHMARK_OT_save_keyfile(_Base, bpy.types.Operator):
-    """Save the keyfile of the last Embed of this session where you choose"""
+    """Save a copy of the keyfile of the last Embed where you choose"""
     bl_idname = "meshmark.save_keyfile"
     bl_label = "Save keyfile"
     bl_options = {"REGISTER"}
 
     filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
     filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+
+    def draw(self, context):  # the file browser: nothing to set beside the file name
+        pass
 
     def invoke(self, context, event):
         self.filepath = "keyfile.json"
@@ -399,13 +437,16 @@ class MESHMARK_OT_save_keyfile(_Base, bpy.types.Operator):
 
 
 class MESHMARK_OT_load_keyfile(_Base, bpy.types.Operator):
-    """Load a keyfile: Verify and the deformation study will use it; the panel shows its settings"""
+    """Open a keyfile: Verify and the study use it, and the panel shows its settings"""
     bl_idname = "meshmark.load_keyfile"
     bl_label = "Load keyfile"
     bl_options = {"REGISTER"}
 
     filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
     filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+
+    def draw(self, context):  # the file browser: nothing to set beside the file name
+        pass
 
     def invoke(self, context, event):
         context.window_manager.fileselect_add(self)
@@ -416,6 +457,7 @@ class MESHMARK_OT_load_keyfile(_Base, bpy.types.Operator):
         kf = _load_keyfile(context, path)  # validates (schema, tag) before anything is set
         s = context.scene.meshmark
         s.keyfile, s.method, s.key, s.weld = path, kf.method, kf.key, kf.weld
+        s.param_mode = "CUSTOM"  # the keyfile's settings, shown under Advanced
         pl = Payload.from_bits(kf.payload["bits"])
         text = Payload(kf.payload["kind"], pl.data).message()
         if kf.payload["kind"] == "text":

@@ -1,22 +1,155 @@
-"""The "Meshmark" tab of the 3D View sidebar (N panel)."""
+"""The "Meshmark" tab of the 3D View sidebar (N panel).
+
+A parent panel (the active object, the one keyfile field every task shares) and one sub-panel per
+task, each a class listed once in :data:`SUBPANELS`. A sub-panel whose operators are not registered
+(``needs``) is not registered either, so a task appears when its feature lands:
+
+* Watermark (embed, verify, capacity) with its "Advanced" fold (``scene.meshmark.show_advanced``;
+  settings Auto or Custom, only the chosen method's, plus welding);
+* Trace copies (``meshmark.issue_copies`` / ``meshmark.trace``, not in this version);
+* Study (the deformation study).
+
+Steganography, Analysis and Steganalysis go in as one class each, added to SUBPANELS.
+
+Every text fits the default sidebar width: fields are drawn as a label column and a value column
+(:func:`field`), long texts (results, errors) are wrapped to the region's width (:func:`wrapped`),
+and a result is shown only while the object it describes is the active one.
+"""
 from __future__ import annotations
 
 import json
 
 import bpy
 
-from . import operators, properties
+from . import messages, operators, properties
 from . import params as _params
 
 # The panel computes the capacity itself only for meshes up to this size (cached per mesh and
 # parameters); larger meshes show the last result of the Capacity button.
 AUTO_CAPACITY_MAX_VERTICES = 50_000
+# Horizontal space the sidebar takes from its region beyond a panel's content (category tabs and
+# panel margins), in pixels at UI scale 1 (Blender 3.4: a 229 px region holds 172 px of content).
+SIDEBAR_MARGIN = 60
+BOX_MARGIN = 12
+DEFAULT_REGION_WIDTH = 229  # the sidebar's width in a new window (no region in background mode)
+LABEL_FACTOR = 0.35  # label column of a field
 
 
-def capacity_line(context, obj, settings) -> str:
-    """One line about the active mesh's capacity for the panel (never raises)."""
+# -- text measuring and wrapping --------------------------------------------------------------------
+def ui_scale() -> float:
+    """Pixels per UI unit pixel (preferences' resolution scale and the display's DPI)."""
+    dpi = getattr(bpy.context.preferences.system, "dpi", 72) or 72
+    return dpi / 72.0
+
+
+def text_width(text: str) -> float:
+    """Width in pixels of ``text`` in the UI's widget font (``blf``), at the current UI scale."""
+    import blf
+    points = bpy.context.preferences.ui_styles[0].widget.points or 11
+    if bpy.app.version < (4, 0, 0):
+        blf.size(0, points, int(round(72 * ui_scale())))
+    else:
+        blf.size(0, points * ui_scale())
+    return blf.dimensions(0, text)[0]
+
+
+def content_width(context) -> float:
+    region = getattr(context, "region", None)
+    width = region.width if region is not None and region.type == "UI" else DEFAULT_REGION_WIDTH * ui_scale()
+    return width - SIDEBAR_MARGIN * ui_scale()
+
+
+def wrap(text: str, width: float) -> list:
+    """``text`` split at spaces into lines no wider than ``width`` pixels (a word longer than a line
+    is cut)."""
+    lines, cur = [], ""
+    for word in text.split():
+        cand = f"{cur} {word}" if cur else word
+        if cur and text_width(cand) > width:
+            lines.append(cur)
+            cur = word
+        else:
+            cur = cand
+        while text_width(cur) > width and len(cur) > 1:  # a single over-long word (a path)
+            cut = len(cur)
+            while cut > 1 and text_width(cur[:cut]) > width:
+                cut -= 1
+            lines.append(cur[:cut])
+            cur = cur[cut:]
+    if cur:
+        lines.append(cur)
+    return lines or [""]
+
+
+def wrapped(layout, context, text: str, icon: str = "NONE", inset: float = 0.0) -> None:
+    """``text`` as labels wrapped to the panel's width (the icon on the first line)."""
+    col = layout.column(align=True)
+    icon_w = 20 * ui_scale() if icon != "NONE" else 0
+    for i, line in enumerate(wrap(text, content_width(context) - inset - icon_w - 8 * ui_scale())):
+        col.label(text=line, icon=icon if i == 0 else "BLANK1" if icon != "NONE" else "NONE")
+
+
+def field(layout, data, prop: str, label: str | None = None):
+    """A property as a label column (35 %) and a value column, so that neither is truncated."""
+    split = layout.split(factor=LABEL_FACTOR, align=True)
+    split.label(text=label if label is not None else data.bl_rna.properties[prop].name)
+    split.prop(data, prop, text="")
+    return split
+
+
+# -- results -----------------------------------------------------------------------------------------
+def tied_result(context, operators_: tuple) -> dict | None:
+    """``scene.meshmark.last_result`` if one of ``operators_`` made it about the active object."""
+    text = context.scene.meshmark.last_result
+    if not text:
+        return None
+    try:
+        d = json.loads(text)
+    except ValueError:
+        return None
+    obj = context.active_object
+    active = obj.name if obj is not None else None
+    if operators.operator_id(d.get("operator", "")) not in operators_ or d.get("object") != active:
+        return None  # another object's (or another task's) result: stale here
+    return d
+
+
+def result_lines(d: dict) -> list:
+    """(text, icon) lines of a result for the result box."""
+    if not d.get("ok", True):
+        return [(d.get("error", "error"), "ERROR")]
+    if "summary" in d:
+        s = d["summary"]
+        return [(f"Found on {s['detected_frames']}/{s['frames']} frames",
+                 "CHECKMARK" if s["detected_frames"] == s["frames"] else "ERROR"),
+                (f"Message on {s['message_frames']} frames", "NONE"),
+                (f"Bits matching {100 * s['mean_cdr']:.0f}%", "NONE")]
+    if "detected" in d:
+        out = [("Mark found" if d["detected"] else "No mark found", "CHECKMARK" if d["detected"] else "CANCEL"),
+               (f"Bits matching {100 * d['cdr']:.1f}%", "NONE")]
+        out.append((f"Message: {d['message']}" if d.get("message_ok") else "Message not recovered", "NONE"))
+        return out
+    if "stored_cdr" in d:
+        ok = d["stored_cdr"] == 1.0 and d.get("stored_message_ok", True)
+        return [("Marked" if ok else "Marked, but not every bit reads back", "CHECKMARK" if ok else "ERROR"),
+                (f"{d['capacity']} bits in the mesh", "NONE")]
+    return []
+
+
+def draw_result(layout, context, d: dict | None) -> None:
+    lines = result_lines(d) if d else []
+    if not lines:
+        return
+    col = layout.box().column(align=True)
+    for text, icon in lines:
+        wrapped(col, context, text, icon, inset=BOX_MARGIN * ui_scale())
+
+
+# -- capacity ----------------------------------------------------------------------------------------
+def capacity_of_active(obj, settings):
+    """(capacity dict or None, text to show instead): never raises."""
     if obj is None or obj.type != "MESH":
-        return "Select a mesh object"
+        return None, "Select a mesh object"
     try:
         method = settings.method
         p = properties.method_settings(settings, method)
@@ -24,90 +157,178 @@ def capacity_line(context, obj, settings) -> str:
         hit = operators.CAPACITY_CACHE.get(obj.name)
         if hit is None or hit[0] != sig:
             if len(obj.data.vertices) > AUTO_CAPACITY_MAX_VERTICES or obj.mode == "EDIT":
-                return f"{len(obj.data.vertices):,} vertices: press Capacity"
+                return None, "Capacity not counted"
             hit = (sig, operators.capacity_of(obj, method, p, settings.weld))
             operators.CAPACITY_CACHE[obj.name] = hit
-        d = hit[1]
-        return f"Capacity: {d['capacity']} bits, message up to {d['max_text_bytes']} bytes"
-    except Exception as exc:  # a too-small or invalid mesh: say why, never fail drawing
-        return f"Capacity: {exc}"[:120]
+        return hit[1], ""
+    except Exception as exc:  # a too-small or invalid mesh: say why (in short), never fail drawing
+        text = messages.friendly(str(exc), settings.method)
+        return None, "Mesh too small to carry a mark" if text.startswith(messages.TOO_SMALL) else text
 
 
-class MESHMARK_PT_sidebar(bpy.types.Panel):
-    bl_idname = "MESHMARK_PT_sidebar"
-    bl_label = "Meshmark"
+def capacity_lines(obj, settings) -> list:
+    d, why = capacity_of_active(obj, settings)
+    if d is None:
+        return [why]
+    fit = d["max_text_bytes"]
+    text = f"Fits {fit} byte{'s' if fit > 1 else ''} of text" if fit else "Too small for a message"
+    return [f"Capacity {d['capacity']} bits", text]
+
+
+def capacity_line(context, obj, settings) -> str:
+    """The capacity as one sentence (scripts, tests)."""
+    return ", ".join(capacity_lines(obj, settings))
+
+
+# -- panels ------------------------------------------------------------------------------------------
+class _Sidebar:
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Meshmark"
+    needs: tuple = ()  # operators this panel's task needs (registered only when all are)
+
+
+class MESHMARK_PT_sidebar(_Sidebar, bpy.types.Panel):
+    """The tab's top: the object the tasks work on and the keyfile they share"""
+    bl_idname = "MESHMARK_PT_sidebar"
+    bl_label = "Meshmark"
 
     def draw(self, context):
         layout = self.layout
         s = context.scene.meshmark
         obj = context.active_object
-
-        col = layout.column(align=True)
-        col.prop(s, "method")
-        group = getattr(s.params, s.method, None)
-        if group is not None:
-            for p in _params.method_params(s.method):
-                col.prop(group, p.name)
-        col.prop(s, "weld")
-        layout.prop(s, "message")
-        layout.prop(s, "key")
-        layout.prop(s, "store_key")
+        if obj is not None and obj.type == "MESH":
+            layout.label(text=obj.name, icon="MESH_DATA")
+        else:
+            layout.label(text="Select a mesh object", icon="INFO")
+        field(layout, s, "keyfile")
         row = layout.row(align=True)
-        row.label(text=capacity_line(context, obj, s), icon="INFO")
+        row.operator("meshmark.load_keyfile", text="Load", icon="FILEBROWSER")
+        row.operator("meshmark.save_keyfile", text="Save", icon="FILE_TICK")
+        d = tied_result(context, ("meshmark.load_keyfile", "meshmark.save_keyfile"))
+        if d is not None and not d.get("ok", True):
+            draw_result(layout, context, d)
+
+
+class MESHMARK_PT_watermark(_Sidebar, bpy.types.Panel):
+    """Hide a message in the active mesh and check it"""
+    bl_idname = "MESHMARK_PT_watermark"
+    bl_label = "Watermark"
+    bl_parent_id = "MESHMARK_PT_sidebar"
+    bl_order = 0
+    needs = ("meshmark.embed", "meshmark.verify", "meshmark.capacity")
+
+    def draw(self, context):
+        layout = self.layout
+        s = context.scene.meshmark
+        obj = context.active_object
+        col = layout.column()
+        field(col, s, "method")
+        field(col, s, "message")
+        field(col, s, "key")
+        field(col, s, "store_key")
+        row = layout.row()
+        lines = capacity_lines(obj, s)
+        col = row.column(align=True)
+        for i, line in enumerate(lines):
+            if i == 0 and len(lines) == 1:
+                wrapped(col, context, line, "INFO", inset=22 * ui_scale())
+            else:
+                col.label(text=line, icon="INFO" if i == 0 else "BLANK1")
         row.operator("meshmark.capacity", text="", icon="FILE_REFRESH")
-
-        layout.operator("meshmark.embed", icon="LOCKED")
-
-        box = layout.box()
-        box.prop(s, "keyfile")
-        row = box.row(align=True)
-        row.operator("meshmark.save_keyfile", icon="FILE_TICK")
-        row.operator("meshmark.load_keyfile", icon="FILEBROWSER")
-        row = box.row(align=True)
-        row.prop(s, "evaluated")
-        row.operator("meshmark.verify", icon="VIEWZOOM")
-        _draw_result(box, s.last_result)
-
-        box = layout.box()
-        box.label(text="Deformation study", icon="ARMATURE_DATA")
-        row = box.row(align=True)
-        row.prop(s, "frame_start")
-        row.prop(s, "frame_end")
-        row.prop(s, "frame_step")
-        box.prop(s, "output_dir")
-        box.operator("meshmark.deformation_study", icon="GRAPH")
+        row = layout.row(align=True)
+        row.operator("meshmark.embed", text="Embed", icon="LOCKED")
+        row.operator("meshmark.verify", text="Verify", icon="VIEWZOOM")
+        layout.prop(s, "evaluated")
+        draw_result(layout, context, tied_result(context, ("meshmark.embed", "meshmark.verify", "meshmark.capacity")))
+        row = layout.row()
+        row.alignment = "LEFT"
+        row.prop(s, "show_advanced", icon="TRIA_DOWN" if s.show_advanced else "TRIA_RIGHT", emboss=False)
+        if s.show_advanced:
+            draw_advanced(layout.box(), context, s)
 
 
-def _draw_result(layout, text: str) -> None:
-    if not text:
-        return
+def draw_advanced(layout, context, s) -> None:
+    """The "Advanced" fold: the chosen method's settings (Auto: chosen for the mesh) and welding."""
+    layout.row().prop(s, "param_mode", expand=True)
+    if s.param_mode == "AUTO":
+        d, _ = capacity_of_active(context.active_object, s)
+        if d is not None:
+            names = _params.labels(s.method)
+            shown = [f"{names[k]} {v:g}" if isinstance(v, float) else f"{names[k]} {v}"
+                     for k, v in d["params"].items() if k in names and not isinstance(v, (bool, str))]
+            wrapped(layout, context, "Chosen: " + ", ".join(shown), inset=BOX_MARGIN * ui_scale())
+    else:
+        group = getattr(s.params, s.method, None)
+        col = layout.column(align=True)
+        for p in _params.method_params(s.method) if group is not None else ():
+            if p.kind in ("enum", "str"):
+                field(col, group, p.name)
+            else:
+                col.prop(group, p.name)
+    layout.prop(s, "weld")
+
+
+class MESHMARK_PT_trace(_Sidebar, bpy.types.Panel):
+    """Give each recipient a copy with its own mark, and find whose copy a file is"""
+    bl_idname = "MESHMARK_PT_trace"
+    bl_label = "Trace copies"
+    bl_parent_id = "MESHMARK_PT_sidebar"
+    bl_order = 1
+    needs = ("meshmark.issue_copies", "meshmark.trace")  # the copy-tracing operators (product)
+
+    def draw(self, context):
+        row = self.layout.row(align=True)
+        row.operator("meshmark.issue_copies", text="Issue", icon="DUPLICATE")
+        row.operator("meshmark.trace", text="Trace", icon="VIEWZOOM")
+        draw_result(self.layout, context, tied_result(context, self.needs))
+
+
+class MESHMARK_PT_study(_Sidebar, bpy.types.Panel):
+    """Check the mark on every n-th frame of the animation; write a table and a plot"""
+    bl_idname = "MESHMARK_PT_study"
+    bl_label = "Study"
+    bl_parent_id = "MESHMARK_PT_sidebar"
+    bl_order = 5
+    needs = ("meshmark.deformation_study",)
+
+    def draw(self, context):
+        layout = self.layout
+        s = context.scene.meshmark
+        col = layout.column(align=True)
+        col.prop(s, "frame_start")
+        col.prop(s, "frame_end")
+        col.prop(s, "frame_step")
+        field(layout, s, "output_dir")
+        layout.operator("meshmark.deformation_study", text="Run study", icon="GRAPH")
+        draw_result(layout, context, tied_result(context, self.needs))
+
+
+# Every sub-panel, in one place (Steganography, Analysis, Steganalysis: one class each, added here).
+SUBPANELS = (MESHMARK_PT_watermark, MESHMARK_PT_trace, MESHMARK_PT_study)
+_registered = []
+
+
+def _operator_registered(idname: str) -> bool:
+    mod, name = idname.split(".")
     try:
-        d = json.loads(text)
-    except ValueError:
-        return
-    if not d.get("ok", True):
-        layout.label(text=d.get("error", "error")[:120], icon="ERROR")
-    elif "detected" in d:
-        layout.label(text=("Detected" if d["detected"] else "Not detected")
-                     + f"  NC {d['nc']:.3f}  CDR {d['cdr']:.3f}", icon="CHECKMARK" if d["detected"] else "CANCEL")
-        if d.get("message_ok"):
-            layout.label(text=f"Message: {d['message']}")
-    elif "summary" in d:
-        s = d["summary"]
-        layout.label(text=f"{s['detected_frames']}/{s['frames']} frames detected, mean CDR {s['mean_cdr']:.3f}")
+        getattr(getattr(bpy.ops, mod), name).get_rna_type()
+        return True
+    except (AttributeError, KeyError):
+        return False
 
 
-classes = (MESHMARK_PT_sidebar,)
+def available(cls) -> bool:
+    return all(_operator_registered(op) for op in cls.needs)
 
 
 def register():
-    for c in classes:
+    _registered[:] = [MESHMARK_PT_sidebar] + [c for c in SUBPANELS if available(c)]
+    for c in _registered:
         bpy.utils.register_class(c)
 
 
 def unregister():
-    for c in reversed(classes):
+    for c in reversed(_registered):
         bpy.utils.unregister_class(c)
+    _registered.clear()

@@ -1,8 +1,11 @@
 """Method parameters as the panel and the operators see them (bpy-free).
 
-Each method in ``meshmark.watermark.METHODS`` has a ``DEFAULTS`` dict (in its module, or as an
-attribute) with the thesis defaults. A default of ``None`` means "computed from the mesh" (e.g.
-the Laplacian method's ``K = ceil(N/70)``): the UI shows it as an integer where 0 means automatic.
+Each method in ``meshmark.watermark.METHODS`` has its defaults in a ``DEFAULTS`` dict (its module, or
+an attribute) or a ``defaults`` attribute. A default of ``None`` means "computed from the mesh" (e.g.
+the Laplacian method's number of bins): the UI shows it as a number where 0 means automatic.
+
+Labels and tooltips are in an artist's words; the parameter each label stands for, and the thesis
+equation behind it, are listed in docs/blender.md ("The panel").
 """
 from __future__ import annotations
 
@@ -10,34 +13,92 @@ import sys
 
 from meshmark.watermark import METHODS
 
-# Labels and help for known parameters; unknown ones get their name.
+# (label, tooltip) per parameter name; METHOD_DESCRIPTIONS overrides them for one method.
 DESCRIPTIONS = {
-    "K": ("Bins", "Number of histogram bins (0 = automatic: ceil(N/70), thesis §7.4)"),
-    "n_thr": ("Min. pair size", "Minimum elements in a valid bin pair, eq. 7.1.8 (thesis: 46)"),
-    "n_robust": ("Robustness", "Margin divisor of eq. 7.2.16 (thesis: 5)"),
-    "eps": ("Epsilon", "Regularisation of the Kirchhoff matrix, eq. 7.1.4 (thesis: 1e-5)"),
-    "thesis_exact": ("Thesis exact", "Run the thesis algorithm to the letter (no robustness fixes)"),
-    "solver": ("Solver", "Reconstruction: 'iterative' (PCG rounds until every carrier holds its margin) "
-                         "or 'direct' (one exact sparse solve, thesis §7.2.2)"),
+    "K": ("Bins", "How finely the mesh's detail is sorted. More bins make room for a longer message, "
+                  "but each bit is easier to break. 0 = chosen from the mesh size"),
+    "n_thr": ("Min. pair size", "Fewest vertices a pair of bins needs to carry a bit. Lower it to fit "
+                                "more on a small mesh; higher is sturdier"),
+    "n_robust": ("Subtlety", "Higher moves the mesh less, but the mark breaks more easily when the "
+                             "mesh is posed. 1 is the sturdiest"),
+    "eps": ("Stability", "A tiny safety term in the maths behind the mark. Leave it as it is"),
+    "thesis_exact": ("As published", "Run the algorithm exactly as published, without meshmark's "
+                                     "robustness fixes (for comparisons: the mark breaks more easily)"),
+    "solver": ("Solver", "How the marked shape is computed"),
+    "alpha": ("Strength", "How far each bit is pushed: higher survives more, but moves the mesh more"),
+    "delta_k": ("Search step", "Step of the search for each bit's shape change: smaller is finer but "
+                               "slower"),
+    "guard": ("Edge guard", "Keeps moved vertices off the bin edges so that every bit reads back. "
+                            "0 = automatic"),
+    "center_iters": ("Re-centre passes", "Extra passes that keep the mesh's centre where it was before "
+                                         "marking. 0 = automatic"),
+    "origin_mode": ("Centre", "Which centre the distances are measured from"),
+    "origin_iters": ("Re-centre passes", "Extra passes that keep the centre where it was before "
+                                         "marking (0 = none)"),
+}
+METHOD_DESCRIPTIONS = {
+    ("radial", "K"): ("Bins", "How many distance rings the mesh is sorted into. More rings make room for "
+                              "a longer message, but each bit is easier to break"),
+    ("radial", "n_thr"): ("Strength", "How many vertices change ring for each bit: higher survives more, "
+                                      "but moves the mesh more. 0 = chosen from the mesh size"),
+}
+# Every choice is a menu: (identifier the method takes, label, tooltip).
+CHOICES = {
+    "solver": [("iterative", "Iterative", "Refine until every bit holds (fast, the default)"),
+               ("direct", "Direct", "One exact solve (slower on large meshes)")],
+    "origin_mode": [("axis", "Main axis", "A point on the mesh's main axis: the mark survives a twist "
+                                         "around it"),
+                    ("vertices", "Vertices", "The mean of the vertices on one side of the mesh")],
+}
+# Kind of a parameter whose default is None ("automatic"); int unless listed.
+AUTO_KINDS = {"guard": "float"}
+
+# The method menu, in the order shown, with its tooltips.
+METHOD_INFO = {
+    "laplacian": ("Laplacian", "Survives posing, skinning and re-export: the method for characters"),
+    "radial": ("Radial", "Distances from a centre on the main axis: survives moving, scaling and twisting, "
+                         "not bending"),
+    "cho-mean": ("Cho mean", "Distances from the centre (Cho et al., mean): lost when the mesh is posed"),
+    "cho-variance": ("Cho variance", "Distances from the centre (Cho et al., variance): lost when the mesh is "
+                                     "posed"),
 }
 
 
-class Param:
-    """One method parameter: ``name``, ``kind`` ('int', 'float', 'bool'), UI ``default``, ``auto``
-    (a None default: 0 in the UI means 'let the method choose')."""
+def method_label(name: str) -> str:
+    return METHOD_INFO.get(name, (name.replace("-", " ").capitalize(), ""))[0]
 
-    def __init__(self, name, default):
+
+def method_items() -> list:
+    """(identifier, label, tooltip) of every registered method, the known ones first."""
+    names = [n for n in METHOD_INFO if n in METHODS] + [n for n in METHODS if n not in METHOD_INFO]
+    return [(n, method_label(n), METHOD_INFO.get(n, ("", f"The {n} watermark"))[1]) for n in names]
+
+
+def describe(method: str | None, name: str) -> tuple:
+    """(label, tooltip) of parameter ``name`` for ``method``."""
+    return METHOD_DESCRIPTIONS.get((method, name)) or DESCRIPTIONS.get(name, (name, name))
+
+
+class Param:
+    """One method parameter: ``name``, ``kind`` ('int', 'float', 'bool', 'enum', 'str'), UI
+    ``default``, ``auto`` (a None default: 0 in the UI means 'let the method choose')."""
+
+    def __init__(self, name, default, method: str | None = None):
         self.name = name
         self.auto = default is None
+        kind = AUTO_KINDS.get(name, "int") if default is None else None
         if isinstance(default, bool):
             self.kind, self.default = "bool", default
+        elif kind == "float" or isinstance(default, float):
+            self.kind, self.default = "float", 0.0 if default is None else float(default)
         elif default is None or isinstance(default, int):
             self.kind, self.default = "int", 0 if default is None else int(default)
-        elif isinstance(default, float):
-            self.kind, self.default = "float", float(default)
+        elif name in CHOICES:
+            self.kind, self.default = "enum", str(default)
         else:
             self.kind, self.default = "str", str(default)
-        self.label, self.description = DESCRIPTIONS.get(name, (name, name))
+        self.label, self.description = describe(method, name)
+        self.items = CHOICES.get(name)
 
     def to_method(self, value):
         """The value the method receives (None for 'automatic')."""
@@ -45,19 +106,25 @@ class Param:
             return None
         if self.kind == "float" and abs(value - self.default) <= 1e-6 * abs(self.default):
             return self.default  # Blender stores floats as float32: keep the exact default (1e-5)
-        return {"int": int, "float": float, "bool": bool, "str": str}[self.kind](value)
+        return {"int": int, "float": float, "bool": bool, "str": str, "enum": str}[self.kind](value)
 
 
 def method_defaults(name: str) -> dict:
     m = METHODS[name]
-    d = getattr(m, "DEFAULTS", None)
+    d = getattr(m, "DEFAULTS", None) or getattr(m, "defaults", None)
     if d is None:
         d = getattr(sys.modules[type(m).__module__], "DEFAULTS", {})
     return dict(d)
 
 
 def method_params(name: str) -> list:
-    return [Param(k, v) for k, v in method_defaults(name).items()]
+    return [Param(k, v, name) for k, v in method_defaults(name).items()]
+
+
+def labels(method: str | None) -> dict:
+    """parameter name -> the label the panel shows, for ``method`` (every method's if None)."""
+    names = method_defaults(method) if method in METHODS else {n: None for m in METHODS for n in method_defaults(m)}
+    return {n: describe(method, n)[0] for n in names}
 
 
 def all_params() -> dict:

@@ -36,8 +36,12 @@ def forget_keys():
 
 
 def method_items(self, context):
-    _ENUM_ITEMS[:] = [(name, name.capitalize(), f"The {name} watermark") for name in METHODS]
+    _ENUM_ITEMS[:] = _params.method_items()
     return _ENUM_ITEMS
+
+
+PARAM_MODES = [("AUTO", "Auto", "Settings chosen for this mesh and method"),
+               ("CUSTOM", "Custom", "Use the settings below")]
 
 
 def blender_property(p: _params.Param, **extra):
@@ -48,7 +52,9 @@ def blender_property(p: _params.Param, **extra):
     if p.kind == "int":
         return IntProperty(min=0, **kw)
     if p.kind == "float":
-        return FloatProperty(min=0.0, precision=6, **kw)
+        return FloatProperty(min=0.0, precision=6 if p.default and p.default < 1e-3 else 3, **kw)
+    if p.kind == "enum":
+        return EnumProperty(items=p.items, **kw)
     return StringProperty(**kw)
 
 
@@ -66,9 +72,14 @@ def _build_classes():
     settings = type("MESHMARK_PG_settings", (PropertyGroup,), {
         "__doc__": "meshmark settings of the scene (scene.meshmark)",
         "__annotations__": {
-            "method": EnumProperty(name="Method", description="Watermarking method", items=method_items),
-            "message": StringProperty(name="Message", description="Text to hide (UTF-8, at most 31 bytes)",
-                                      default="meshmark"),
+            "method": EnumProperty(name="Method", description="How the mark is hidden in the mesh",
+                                   items=method_items),
+            "show_advanced": BoolProperty(name="Advanced", default=False,
+                                          description="Show the method's settings and welding"),
+            "param_mode": EnumProperty(name="Settings", items=PARAM_MODES, default="AUTO",
+                                       description="Let meshmark choose the method's settings, or set them"),
+            "message": StringProperty(name="Message", description="Text to hide in the mesh (at most 31 bytes; "
+                                      "a small mesh holds less: see the capacity line)", default="meshmark"),
             "key": StringProperty(name="Key", description="Secret key (kept in memory for this session only: "
                                   "never saved in the .blend; stored in the keyfile unless Store key is off)",
                                   subtype="PASSWORD", get=_get_key, set=_set_key, options={"SKIP_SAVE"}),
@@ -78,17 +89,17 @@ def _build_classes():
             "keyfile": StringProperty(name="Keyfile", description="Keyfile written by Embed and read by Verify "
                                       "(JSON; keep it outside the .blend)", default="", subtype="FILE_PATH"),
             "params": PointerProperty(type=all_params),
-            "weld": BoolProperty(name="Weld", default=True,
-                                 description="Merge vertices at exactly equal positions (UV seams, flat shading, "
-                                             "non-indexed glTF) before marking; every copy gets the same mark"),
-            "evaluated": BoolProperty(name="Deformed", default=True,
-                                      description="Verify the evaluated mesh (armature, shape keys, modifiers) "
-                                                  "instead of the base mesh"),
-            "frame_start": IntProperty(name="Start", default=1, description="First frame of the study"),
-            "frame_end": IntProperty(name="End", default=48, description="Last frame of the study"),
-            "frame_step": IntProperty(name="Step", default=1, min=1, description="Evaluate every n-th frame"),
-            "output_dir": StringProperty(name="Output", default="", subtype="DIR_PATH",
-                                         description="Directory for the study's CSV and plot"),
+            "weld": BoolProperty(name="Weld split vertices", default=True,
+                                 description="Treat vertices at exactly the same place (UV seams, flat shading, "
+                                             "glTF exports) as one, so the model never cracks open"),
+            "evaluated": BoolProperty(name="Check as posed", default=True,
+                                      description="Check the mesh as it looks now (armature, shape keys, "
+                                                  "modifiers) rather than its rest shape"),
+            "frame_start": IntProperty(name="Start", default=1, description="First frame to check"),
+            "frame_end": IntProperty(name="End", default=48, description="Last frame to check"),
+            "frame_step": IntProperty(name="Step", default=1, min=1, description="Check every n-th frame"),
+            "output_dir": StringProperty(name="Folder", default="", subtype="DIR_PATH",
+                                         description="Folder where the study writes its table (CSV) and plot"),
             "last_result": StringProperty(name="Last result", default="",
                                           description="JSON result of the last meshmark operator"),
         },
@@ -97,7 +108,10 @@ def _build_classes():
 
 
 def method_settings(settings, method: str) -> dict:
-    """The method's parameters from ``scene.meshmark`` (None where 'automatic')."""
+    """The method's parameters from ``scene.meshmark`` (None where 'automatic'). With Settings
+    "Auto" every parameter is left to the method (its defaults for the mesh)."""
+    if settings.param_mode == "AUTO":
+        return {p.name: None for p in _params.method_params(method)}
     group = getattr(settings.params, method)
     return {p.name: p.to_method(getattr(group, p.name)) for p in _params.method_params(method)}
 

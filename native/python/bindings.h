@@ -22,5 +22,7 @@ void bind_laplacian(pybind11::module_& m);  // ch. 7 Laplacian-coordinate waterm
 void bind_attacks(pybind11::module_& m);    // attacks: similarity, noise, smoothing, quantization, ... (bind_attacks.cpp)
 void bind_metrics(pybind11::module_& m);    // distortion metrics: RMSE, surface distance, normal degradation (bind_metrics.cpp)
 void bind_radial(pybind11::module_& m);     // ch. 6 Cho / Yang radial watermarks, §6.4 steganalyzer (bind_radial.cpp)
+void bind_analysis(pybind11::module_& m);   // ch. 3-5 normal and curvature degradation, quantization levels (bind_analysis.cpp)
+void bind_stego(pybind11::module_& m);      // §4.3.2 LSB steganography, Chao et al. 2009 baseline (bind_stego.cpp)
 
 }  // namespace meshmark::python

@@ -14,4 +14,6 @@ PYBIND11_MODULE(_core, m) {
   meshmark::python::bind_attacks(m);
   meshmark::python::bind_metrics(m);
   meshmark::python::bind_radial(m);
+  meshmark::python::bind_analysis(m);
+  meshmark::python::bind_stego(m);
 }

@@ -458,6 +458,10 @@ def steganalysis_cho(inp, K_min, K_max, eps, eps2, as_json):
     _emit(d, as_json, text)
     sys.exit(0 if d["marked"] else 1)
 
+from .stego.cli import stego as _stego_cli; main.add_command(_stego_cli)  # noqa: E402  (meshmark stego ...)
+
+
+from .analysis.cli import analyze; main.add_command(analyze)  # noqa: E402,E702  (thesis ch. 3-5)
 
 if __name__ == "__main__":  # pragma: no cover
     main()
