@@ -71,7 +71,7 @@ def test_mesh_too_small(addon, tmp_path):
     S0 = _coords(sphere)
     err = _fails(bpy.ops.meshmark.embed, "mesh too small to carry a mark: it offers only", message="x", key="k",
                  keyfile=str(tmp_path / "k.json"))
-    assert "offers only 0 of the 8 bits" in err and "(Bins 7, Min. pair size 46)" in err and "n_thr" not in err and "K=" not in err
+    assert "offers only 0 of the 20 bits" in err and "(Bins 7, Min. pair size 46)" in err and "n_thr" not in err and "K=" not in err
     _fails(bpy.ops.meshmark.embed, "Min. pair size must be", message="x", key="k", K=20, n_thr=0,
            keyfile=str(tmp_path / "k.json"))
     assert np.array_equal(_coords(cube), V0) and np.array_equal(_coords(sphere), S0)

@@ -135,7 +135,7 @@ def test_message_longer_than_capacity_leaves_input_unchanged(bunny):
 
 def test_too_few_carriers():
     cow = meshmark.read_mesh(shared_mesh("classic/cow.obj"))
-    with pytest.raises(MeshError, match=r"offers only 6 carrier bits .*can never be detected .*at least 20 carriers are needed"):
+    with pytest.raises(MeshError, match=r"offers only 6 carrier bits .*at least 20 are needed: a mark that small can never be detected"):
         L.embed(cow, payload="1", key="k")
     with pytest.raises(MeshError, match="K must be at least 4"):
         L.capacity(cow, K=2)

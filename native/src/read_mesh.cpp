@@ -569,8 +569,8 @@ void read_ply(const Reader& r, const std::string& data, MeshFile& out) {
   }
   if (need < 0 || need > body + 1)
     r.fail(std::string(ascii ? "truncated or malformed ASCII PLY" : "truncated binary PLY") + ": the header declares " +
-           std::to_string(ve->count) + " vertices and " + std::to_string(fe->count) + " faces, which need at least " +
-           (need < 0 ? std::string("more") : std::to_string(need)) + " bytes, but " + std::to_string(body) +
+           std::to_string(ve->count) + " vertices and " + std::to_string(fe->count) + " faces, which need " +
+           (need < 0 ? std::string("far more") : "at least " + std::to_string(need)) + " bytes, but " + std::to_string(body) +
            " follow the header (truncated or malformed file)");
 
   PlyBody in{r, data, header_end, ascii, format == "binary_big_endian", L.line + 1};

@@ -72,10 +72,10 @@ def check_detectable(cap: int, what: str) -> None:
     back correctly gives P(false alarm) = 2^-cap, which must be below the threshold."""
     need = min_detectable_carriers()
     if cap < need:
-        raise MeshError(f"the mesh offers only {cap} carrier bits to {what}; a mark that small can never be "
-                        f"detected (all {cap} bits matching still has P(false alarm) = "
-                        f"{false_alarm_probability(cap, cap):.2g}, not below {DETECTION_THRESHOLD:g}): at least "
-                        f"{need} carriers are needed. Nothing was written.")
+        raise MeshError(f"the mesh offers only {cap} carrier bits to {what}; at least {need} are needed: a mark "
+                        f"that small can never be detected (all {cap} bits matching still has P(false alarm) = "
+                        f"{false_alarm_probability(cap, cap):.2g}, not below {DETECTION_THRESHOLD:g}). Nothing was "
+                        "written.")
 
 
 def register(method) -> None:
