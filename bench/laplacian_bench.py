@@ -2,6 +2,7 @@
 
     .venv/bin/python bench/laplacian_bench.py            # Bunny and a >= 1M-vertex subdivided Elephant
     .venv/bin/python bench/laplacian_bench.py --small    # Bunny only
+    .venv/bin/python bench/laplacian_bench.py --carriers thesis,normal --no-reference   # carriers side by side
 
 The reference is bench/reference/laplacian_ref.py: the same algorithm written with numpy and
 scipy.sparse (Kirchhoff matrix, splu solve). meshmark runs twice: with its default iterative
@@ -48,7 +49,9 @@ def run_case(which, impl):
         from meshmark.watermark import laplacian as L
         from meshmark.watermark.payload import Payload
         solver = "direct" if impl.endswith("direct") else "iterative"
-        L.embed(m, payload=Payload.from_bits(bits[:4]), key="warm", solver=solver)  # warm-up (page-in, first BLAS call)
+        carrier = impl.split("[")[1].rstrip("]") if "[" in impl else None  # meshmark[normal]: docs/carrier.md
+        c = {"carrier": carrier} if carrier else {}
+        L.embed(m, payload=Payload.from_bits(bits[:4]), key="warm", solver=solver, **c)  # warm-up (page-in, first BLAS call)
         # Timed calls get fresh arrays, as from a file: no edges or lengths cached from the warm-up.
         # Best of 3 embeddings and 5 extractions (as timeit reports); the means are printed too.
         reps = 3 if m.n_vertices < 200_000 else 1
@@ -56,7 +59,7 @@ def run_case(which, impl):
         for _ in range(reps):
             V, F = m.V.copy(), m.F.copy()
             t = time.perf_counter()
-            r = L.embed(V, F, payload=Payload.from_bits(bits), key="bench", solver=solver)
+            r = L.embed(V, F, payload=Payload.from_bits(bits), key="bench", solver=solver, **c)
             te.append(time.perf_counter() - t)
         tx = []
         for _ in range(5):
@@ -93,6 +96,8 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--small", action="store_true")
     ap.add_argument("--case", nargs=2, metavar=("MESH", "IMPL"))
+    ap.add_argument("--carriers", default="", help="also time these Laplacian carriers (comma separated)")
+    ap.add_argument("--no-reference", action="store_true", help="skip the direct solve and numpy/scipy cases")
     a = ap.parse_args()
     if a.case:
         print(json.dumps(run_case(*a.case)))
@@ -100,7 +105,9 @@ def main():
     cases = ["bunny"] + ([] if a.small else ["elephant-1M"])
     rows = []
     for which in cases:
-        for impl in ("meshmark", "meshmark-direct", "numpy/scipy"):
+        impls = ["meshmark"] + ([] if a.no_reference else ["meshmark-direct", "numpy/scipy"])
+        impls += [f"meshmark[{c}]" for c in a.carriers.split(",") if c]
+        for impl in impls:
             p = subprocess.run([sys.executable, __file__, "--case", which, impl], capture_output=True, text=True)
             if p.returncode != 0:
                 print(f"{which} {impl}: failed: {p.stderr.strip().splitlines()[-1] if p.stderr else ''}")
@@ -108,9 +115,9 @@ def main():
             rows.append(json.loads(p.stdout.strip().splitlines()[-1]))
     print("meshmark: best of 3 embeddings (1 above 200k vertices) and of 5 extractions, mean in brackets; "
           "numpy/scipy: one run each")
-    print(f"{'mesh':<12}{'impl':<16}{'vertices':>10}{'bits':>6}{'embed s':>18}{'extract s':>20}{'peak MB':>9}  ok")
+    print(f"{'mesh':<12}{'impl':<24}{'vertices':>10}{'bits':>6}{'embed s':>18}{'extract s':>20}{'peak MB':>9}  ok")
     for r in rows:
-        print(f"{r['which']:<12}{r['impl']:<16}{r['n_vertices']:>10,}{r['bits']:>6}"
+        print(f"{r['which']:<12}{r['impl']:<24}{r['n_vertices']:>10,}{r['bits']:>6}"
               f"{r['embed_s']:>9.3f} ({r['embed_mean_s']:.3f}){r['extract_s']:>10.4f} ({r['extract_mean_s']:.4f})"
               f"{r['peak_mb']:>9.0f}  {r['ok']}")
     for which in cases:
@@ -120,6 +127,11 @@ def main():
             if mm and ref:
                 print(f"{which}: {impl} is {ref['embed_s'] / mm['embed_s']:.1f}x faster at embedding and "
                       f"{ref['extract_s'] / mm['extract_s']:.1f}x at extracting than numpy/scipy")
+        base = next((r for r in rows if r["which"] == which and r["impl"] == "meshmark"), None)
+        for r in rows:
+            if base and r["which"] == which and "[" in r["impl"]:
+                print(f"{which}: {r['impl']} takes {r['embed_s'] / base['embed_s']:.2f}x the default's embedding time "
+                      f"and {r['extract_s'] / base['extract_s']:.2f}x its extraction time")
     return 0
 
 

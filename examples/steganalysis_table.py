@@ -17,6 +17,9 @@ a uniformly random message instead of a balanced one (eq. 6.4.17), the robust mo
 20 centre re-synchronisations: no centroid drift), and alpha = 0.02 / 0.06 (the ends of the range
 §8.2 draws alpha from).
 
+Two decisions per row: ``marked`` (the default binomial balance test, false-reject 1 %) and
+``marked_thesis`` (eq. 6.4.17 literally, eps' = 0.03; docs/steganalysis.md §5).
+
 Writes OUT.csv (one row per model and case: D at K' and at the true K, eqs. 6.4.16/17, ...),
 OUT_summary.csv (per folder, combined and per size class) and OUT.png (K accuracy and detection
 against the number of vertices per bin), and prints the tables. Thesis: Cho 64 bits 443 models,
@@ -45,7 +48,8 @@ THESIS = {("cho", 64): (443, 96.84, 94.58), ("cho", 100): (386, 96.63, 93.01),
           ("yang", 64): (377, 0.65, 6.63), ("yang", 100): (371, 0.0, 6.74)}
 # case -> (method, bits, alpha, balanced message, robust mode)
 MAIN = {"cho": ("cho", None, 0.04, True, False), "yang": ("yang", None, None, True, False)}
-VARIANTS = {"cho-random": ("cho", 64, 0.04, False, False), "cho-robust": ("cho", 64, 0.04, True, True),
+VARIANTS = {"cho-random": ("cho", 64, 0.04, False, False), "cho-random-100": ("cho", 100, 0.04, False, False),
+            "cho-random-a0.06": ("cho", 64, 0.06, False, False), "cho-robust": ("cho", 64, 0.04, True, True),
             "cho-a0.02": ("cho", 64, 0.02, True, False), "cho-a0.06": ("cho", 64, 0.06, True, False)}
 SIZE_CLASSES = [(0, 50), (50, 100), (100, 200), (200, 400), (400, np.inf)]  # vertices per bin at K = 64
 
@@ -79,6 +83,7 @@ def analyse_row(V, true_k):
     D = np.asarray(r["D"])
     return {"k_estimate": r["k_estimate"], "D": r["bhattacharyya"],
             "D_true": float(D[true_k - 1]) if true_k else float("nan"), "marked": bool(r["marked"]),
+            "marked_thesis": bool(r["eq_6_4_16"] and r["eq_6_4_17"]), "p_balance": r["p_balance"],
             "eq_6_4_16": bool(r["eq_6_4_16"]), "eq_6_4_17": bool(r["eq_6_4_17"]), "min_C": r["min_C"],
             "max_Ctilde": r["max_Ctilde"], "size_C": r["size_C"], "size_Ctilde": r["size_Ctilde"]}
 
@@ -88,7 +93,7 @@ def models(folder: pathlib.Path):
 
 
 FIELDS = ["folder", "path", "model", "n_vertices", "case", "bits", "alpha", "ones", "carried", "k_estimate", "D",
-          "D_true", "marked", "eq_6_4_16", "eq_6_4_17", "min_C", "max_Ctilde", "size_C", "size_Ctilde"]
+          "D_true", "marked", "marked_thesis", "p_balance", "eq_6_4_16", "eq_6_4_17", "min_C", "max_Ctilde", "size_C", "size_Ctilde"]
 
 
 def pct(flags):
@@ -107,13 +112,17 @@ def summarise(rows, cases):
     for g, rs in groups.items():
         clean = [r for r in rs if r["case"] == "clean"]
         out.append({"group": g, "case": "clean", "bits": 0, "models": len(clean), "marked_models": "",
-                    "k_accuracy": "", "detection": "", "false_positives": pct([r["marked"] for r in clean])})
+                    "k_accuracy": "", "detection": "", "detection_thesis": "",
+                    "false_positives": pct([r["marked"] for r in clean]),
+                    "false_positives_thesis": pct([r["marked_thesis"] for r in clean])})
         for case, bits in cases:
             sel = [r for r in rs if r["case"] == case and r["bits"] == bits]
             car = [r for r in sel if r["carried"]]
             out.append({"group": g, "case": case, "bits": bits, "models": len(sel), "marked_models": len(car),
                         "k_accuracy": pct([r["k_estimate"] == bits for r in car]),
-                        "detection": pct([r["marked"] for r in car]), "false_positives": ""})
+                        "detection": pct([r["marked"] for r in car]),
+                        "detection_thesis": pct([r["marked_thesis"] for r in car]), "false_positives": "",
+                        "false_positives_thesis": ""})
     for lo, hi in SIZE_CLASSES:  # Cho as published by vertices per bin, all folders
         for case, bits in cases:
             if not case.startswith("cho"):
@@ -122,7 +131,9 @@ def summarise(rows, cases):
                    and lo <= r["n_vertices"] / bits < hi]
             out.append({"group": f"{lo}-{hi} vertices/bin", "case": case, "bits": bits, "models": len(car),
                         "marked_models": len(car), "k_accuracy": pct([r["k_estimate"] == bits for r in car]),
-                        "detection": pct([r["marked"] for r in car]), "false_positives": ""})
+                        "detection": pct([r["marked"] for r in car]),
+                        "detection_thesis": pct([r["marked_thesis"] for r in car]), "false_positives": "",
+                        "false_positives_thesis": ""})
     return out
 
 
@@ -201,7 +212,8 @@ def main():
                     bits = message(n, balanced, rng)
                     Vm, carried = mark(V, method, bits, alpha, robust)
                     res = analyse_row(Vm, n) if carried else {"k_estimate": 0, "D": float("nan"),
-                                                             "D_true": float("nan"), "marked": False}
+                                                             "D_true": float("nan"), "marked": False,
+                                                             "marked_thesis": False}
                     rows.append({**base, "case": case, "bits": n, "alpha": alpha or "", "ones": int(bits.sum()),
                                  "carried": carried, **res})
             print(f"[{folder.name} {i + 1}/{len(files)}] {path.name} ({len(V)} v) {time.perf_counter() - t0:.0f} s",
@@ -219,23 +231,25 @@ def main():
     plot(rows, case_bits, f"{out}.png")
 
     fmt = lambda v: "" if v == "" else f"{v:.1f}%"
-    print("\n| models | method | #bits | #marked models (of) | accuracy of K | detection | thesis (#, K acc, det.) |")
-    print("|---|---|---:|---:|---:|---:|---|")
+    print("\ndetection: the default balance rule (binomial, false-reject 1 %); literal: eq. 6.4.17 with eps' = 0.03")
+    print("\n| models | method | #bits | #marked models (of) | accuracy of K | detection | literal | thesis (#, K acc, det.) |")
+    print("|---|---|---:|---:|---:|---:|---:|---|")
     for s in summary:
         if s["case"] in MAIN and "vertices/bin" not in s["group"]:
             t = THESIS[(s["case"], s["bits"])]
             label = "Cho's" if s["case"] == "cho" else "Ours (Yang)"
             print(f"| {s['group']} | {label} | {s['bits']} | {s['marked_models']} ({s['models']}) | "
-                  f"{fmt(s['k_accuracy'])} | {fmt(s['detection'])} | {t[0]}, {t[1]}%, {t[2]}% |")
-    print("\n| models | false positives on clean models |\n|---|---:|")
+                  f"{fmt(s['k_accuracy'])} | {fmt(s['detection'])} | {fmt(s['detection_thesis'])} | {t[0]}, {t[1]}%, {t[2]}% |")
+    print("\n| models | false positives on clean models (default) | (literal) |\n|---|---:|---:|")
     for s in summary:
         if s["case"] == "clean":
-            print(f"| {s['group']} ({s['models']}) | {fmt(s['false_positives'])} |")
+            print(f"| {s['group']} ({s['models']}) | {fmt(s['false_positives'])} | {fmt(s['false_positives_thesis'])} |")
     if not a.no_variants:
-        print("\n| Cho 64 bits, combined | #marked models | accuracy of K | detection |\n|---|---:|---:|---:|")
+        print("\n| Cho 64 bits, combined | #marked models | accuracy of K | detection | literal |\n|---|---:|---:|---:|---:|")
         for s in summary:
             if s["group"] == "combined" and s["case"].startswith("cho") and s["bits"] == 64:
-                print(f"| {s['case']} | {s['marked_models']} | {fmt(s['k_accuracy'])} | {fmt(s['detection'])} |")
+                print(f"| {s['case']} | {s['marked_models']} | {fmt(s['k_accuracy'])} | {fmt(s['detection'])} | "
+                      f"{fmt(s['detection_thesis'])} |")
     print("\n| vertices per bin | case | #bits | #marked models | accuracy of K | detection |\n|---|---|---:|---:|---:|---:|")
     for s in summary:
         if "vertices/bin" in s["group"] and s["case"] in ("cho", "cho-a0.06"):

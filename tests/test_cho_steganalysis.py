@@ -79,11 +79,15 @@ def test_clean_marked_and_yang_bunny(bunny):
     assert r["min_C"] > 0.5 > r["max_Ctilde"] and r["bhattacharyya"] > clean["bhattacharyya"]
     # read with the true K the clusters are exactly the embedded bits: means >= 0.54 and <= 0.46
     assert r["min_C"] >= 0.54 - 0.004 and r["max_Ctilde"] <= 0.46 + 0.004
-    # an unbalanced message fails eq. 6.4.17 only (docs/radial.md)
+    # an unbalanced message fails the literal eq. 6.4.17 only (docs/radial.md); the default binomial
+    # balance test accepts it (docs/steganalysis.md §5)
     bits = np.random.default_rng(2013).integers(0, 2, 64)
     assert bits.sum() != 32
-    r = stega.analyze(cho.embed_bits(bunny, None, bits, method="mean")[0])
+    Vr = cho.embed_bits(bunny, None, bits, method="mean")[0]
+    r = stega.analyze(Vr, thesis_exact=True)
     assert r["k_estimate"] == 64 and r["eq_6_4_16"] and not r["eq_6_4_17"] and not r["marked"]
+    r = stega.analyze(Vr)
+    assert r["k_estimate"] == 64 and r["balance_test"] and r["marked"] and r["p_balance"] > 0.5
     # 100 balanced bits: K' = 100
     r = stega.analyze(cho.embed_bits(bunny, None, np.tile([1, 0], 50), method="mean")[0])
     assert r["k_estimate"] == 100 and r["marked"]
@@ -91,6 +95,20 @@ def test_clean_marked_and_yang_bunny(bunny):
     Vy, _ = radial.embed_bits(bunny, None, BALANCED)
     r = stega.analyze(Vy)
     assert not r["marked"] and r["k_estimate"] == clean["k_estimate"]
+
+
+def test_balance_tolerance_is_binomial():
+    from scipy.stats import binom
+    for n, fr in [(64, 0.01), (64, 0.05), (100, 0.01), (63, 0.01), (7, 0.2)]:
+        t = stega.balance_tolerance(n, fr)
+        k = np.arange(n + 1)
+        tail = lambda t: binom.pmf(k, n, 0.5)[np.abs(k - n / 2) > t].sum()
+        assert tail(t) <= fr < tail(t - 1)  # the smallest accepted deviation with tail <= fr
+    assert stega.balance_tolerance(64, 0.01) == 10  # 22..42 ones accepted
+    assert stega.balance_p_value(32, 32) == 1.0
+    assert stega.balance_p_value(20, 44) == pytest.approx(2 * binom.cdf(20, 64, 0.5))
+    with pytest.raises(MeshError, match="false_reject"):
+        stega.analyze(np.random.default_rng(0).normal(size=(100, 3)), false_reject=0)
 
 
 def test_alpha_decides_k_accuracy_on_a_mid_size_model():

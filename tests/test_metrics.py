@@ -244,3 +244,17 @@ def test_bounded_hausdorff_is_at_least_every_sample():
     assert sampled <= h["upper"] and h["upper"] <= h["lower"] * 1.001
     d = M.surface_distance(cow, s)
     assert d["hausdorff"] >= d["hausdorff_sampled"] * 0.999 and d["hausdorff_rel"] == d["hausdorff"] / d["diag"]
+
+
+def test_hausdorff_closes_on_round_off_distances():
+    """A similarity transform undone leaves ~1e-16 of round-off; the bound must still close (it
+    never did with a purely relative tolerance: the Elephant ran > 20 minutes), and stay tiny."""
+    el = meshmark.read_mesh(shared_mesh("classic/elephant.off"))
+    R = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    c = np.array([0.3, -2.0, 5.0])
+    back = (((el.V * 7.1 + c) @ R.T) @ R - c) / 7.1  # forward and back: V up to round-off
+    d = M.hausdorff_distance(el.with_vertices(back), el)
+    diag = M.bbox_diagonal(el)
+    assert 0.0 < d["upper"] <= d["lower"] * 1.01 + 1e-12 * diag
+    assert d["upper"] < 1e-12 * diag * 2
+    assert d["n_queries"] < 50 * len(el.triangles)

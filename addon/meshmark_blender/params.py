@@ -25,6 +25,7 @@ DESCRIPTIONS = {
     "thesis_exact": ("As published", "Run the algorithm exactly as published, without meshmark's "
                                      "robustness fixes (for comparisons: the mark breaks more easily)"),
     "solver": ("Solver", "How the marked shape is computed"),
+    "carrier": ("Carrier", "Which detail of the surface holds the mark. Local survives posing best"),
     "alpha": ("Strength", "How far each bit is pushed: higher survives more, but moves the mesh more"),
     "delta_k": ("Search step", "Step of the search for each bit's shape change: smaller is finer but "
                                "slower"),
@@ -44,6 +45,13 @@ METHOD_DESCRIPTIONS = {
 }
 # Every choice is a menu: (identifier the method takes, label, tooltip).
 CHOICES = {
+    "carrier": [("local", "Local", "Detail measured against each vertex's own edges: survives posing "
+                                   "(the default)"),
+                ("thesis", "As published", "Detail measured against the mesh's mean edge length"),
+                ("normal", "Normal", "Signed detail along the surface normal"),
+                ("normal_global", "Normal, global", "Signed detail along the normal, mean edge length"),
+                ("cot_local", "Cotangent", "Cotangent-weighted detail, local edges"),
+                ("cot_normal", "Cotangent normal", "Cotangent-weighted detail along the normal")],
     "solver": [("iterative", "Iterative", "Refine until every bit holds (fast, the default)"),
                ("direct", "Direct", "One exact solve (slower on large meshes)")],
     "origin_mode": [("axis", "Main axis", "A point on the mesh's main axis: the mark survives a twist "

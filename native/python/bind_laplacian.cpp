@@ -2,6 +2,7 @@
 
 #include "meshmark/error.h"
 #include "meshmark/kirchhoff_matrix.h"
+#include "meshmark/laplacian_carrier.h"
 #include "meshmark/laplacian_coordinates.h"
 #include "meshmark/laplacian_range_factor.h"
 #include "meshmark/laplacian_watermark.h"
@@ -77,6 +78,17 @@ void bind_laplacian(py::module_& m) {
         }, py::arg("V"), py::arg("E"), py::arg("eps") = 0.0,
         "(d, mean_edge_length): the Laplacian lengths (eq. 7.1.5) and the mean edge length in one pass");
 
+  m.def("laplacian_carrier", [](VRef V, ERef E, Eigen::Ref<const MatrixX3iR> T, int kind, double scale,
+                                double compress) {
+          check_edges(V, E);
+          if (T.rows() && (T.minCoeff() < 0 || T.maxCoeff() >= V.rows()))
+            throw MeshError("triangle list refers to a vertex outside 0.." + std::to_string(V.rows() - 1));
+          py::gil_scoped_release release;
+          return laplacian_carrier(V, E, T, static_cast<LaplacianCarrier>(kind), scale, false, compress).value;
+        }, py::arg("V"), py::arg("E"), py::arg("T"), py::arg("kind"), py::arg("scale") = 1.0, py::arg("compress") = 0.0,
+        "(n,) carrier scalar s_i of laplacian_carrier.h (kind 0 thesis ||L||/scale, 1 local, 2 normal, "
+        "3 cotangent local, 4 cotangent normal, 5 normal over the global unit `scale`)");
+
   m.def("laplacian_pair_counts", [](Eigen::Ref<const Eigen::VectorXd> d_sorted, double lo, double hi, int K,
                                     std::vector<long long> ids) {
           std::vector<long long> c1, c2;
@@ -103,8 +115,12 @@ void bind_laplacian(py::module_& m) {
 
   m.def("laplacian_embed", [](VRef V, ERef E, VectorXi bin, VectorXi counts, double lo, double hi,
                               std::vector<int> pairs, std::vector<int> bits, int n_robust, double eps,
-                              bool thesis_exact, double scale, int iterations, int max_rounds) {
+                              bool thesis_exact, double scale, int iterations, int max_rounds, int carrier,
+                              Eigen::Ref<const MatrixX3iR> T, double compress) {
           if (bin.size() != V.rows()) throw MeshError("bin and V differ in length");
+          check_edges(V, E);
+          if (T.rows() && (T.minCoeff() < 0 || T.maxCoeff() >= V.rows()))
+            throw MeshError("triangle list refers to a vertex outside 0.." + std::to_string(V.rows() - 1));
           const LaplacianHistogram h = make_hist(std::move(bin), std::move(counts), lo, hi);
           LaplacianEmbedOptions o;
           o.n_robust = n_robust;
@@ -113,6 +129,9 @@ void bind_laplacian(py::module_& m) {
           o.scale = scale;
           o.iterations = iterations;
           o.max_rounds = max_rounds;
+          o.carrier = static_cast<LaplacianCarrier>(carrier);
+          o.compress = compress;
+          if (o.carrier != LaplacianCarrier::Thesis || compress > 0) o.triangles = &T;
           LaplacianEmbedResult r;
           {
             py::gil_scoped_release release;
@@ -122,7 +141,8 @@ void bind_laplacian(py::module_& m) {
         }, py::arg("V"), py::arg("E"), py::arg("bin"), py::arg("counts"), py::arg("lo"), py::arg("hi"),
         py::arg("pairs"), py::arg("bits"), py::arg("n_robust") = 5, py::arg("eps") = 1e-5,
         py::arg("thesis_exact") = false, py::arg("scale") = 1.0, py::arg("iterations") = 5,
-        py::arg("max_rounds") = 8);
+        py::arg("max_rounds") = 8, py::arg("carrier") = 0,
+        py::arg("T") = MatrixX3iR(0, 3), py::arg("compress") = 0.0);
 }
 
 }  // namespace meshmark::python

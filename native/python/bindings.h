@@ -24,5 +24,6 @@ void bind_metrics(pybind11::module_& m);    // distortion metrics: RMSE, surface
 void bind_radial(pybind11::module_& m);     // ch. 6 Cho / Yang radial watermarks, §6.4 steganalyzer (bind_radial.cpp)
 void bind_analysis(pybind11::module_& m);   // ch. 3-5 normal and curvature degradation, quantization levels (bind_analysis.cpp)
 void bind_stego(pybind11::module_& m);      // §4.3.2 LSB steganography, Chao et al. 2009 baseline (bind_stego.cpp)
+void bind_steganalysis(pybind11::module_& m);  // ch. 8 steganalysis features YANG208 / LFS76 / NVT36 (bind_steganalysis.cpp)
 
 }  // namespace meshmark::python

@@ -16,4 +16,5 @@ PYBIND11_MODULE(_core, m) {
   meshmark::python::bind_radial(m);
   meshmark::python::bind_analysis(m);
   meshmark::python::bind_stego(m);
+  meshmark::python::bind_steganalysis(m);
 }

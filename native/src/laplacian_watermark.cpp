@@ -225,6 +225,16 @@ MatrixX3dR length_change(const MatrixX3dR& L, const Eigen::VectorXd& d, const Ei
   return dL;
 }
 
+// The same for any carrier (laplacian_carrier.h): dL_i = direction_i gain_i (d^_i - d_i), the
+// first-order change of L_i that takes s_i to d^_i (for the thesis carrier this is eq. 7.2.19).
+MatrixX3dR carrier_change(const LaplacianCarrierField& F, const Eigen::VectorXd& d, const Eigen::VectorXd& d_target) {
+  const Index n = static_cast<Index>(d.size());
+  MatrixX3dR dL = MatrixX3dR::Zero(n, 3);
+  for (Index i = 0; i < n; ++i)
+    if (d_target[i] != d[i]) dL.row(i) = F.direction.row(i) * (F.gain[i] * (d_target[i] - d[i]));
+  return dL;
+}
+
 // Jacobi-preconditioned conjugate gradients on (K + shift I) X = B for the Kirchhoff matrix K of the
 // adjacency (eq. 7.1.3), applied without assembling it; each of the 3 columns is its own system.
 // Starts from X = 0 and takes at most `iterations` steps (fewer once every column's residual is below
@@ -311,14 +321,25 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
   const Index n = static_cast<Index>(V.rows());
   if (pairs.size() != bits.size()) throw MeshError("pairs and bits differ in length");
   if (opt.n_robust < 1) throw MeshError("n_robust must be >= 1, got " + std::to_string(opt.n_robust));
+  const bool thesis_carrier = opt.carrier == LaplacianCarrier::Thesis && opt.compress == 0;
+  if (!thesis_carrier && opt.thesis_exact) throw MeshError("thesis_exact uses the thesis carrier only");
+  if (!thesis_carrier && !opt.triangles) throw MeshError("the Laplacian carrier needs the mesh's triangles");
   const double eps_measure = opt.thesis_exact ? opt.eps : 0.0;
-  MatrixX3dR L = laplacian_coordinates(V, A, eps_measure);  // eq. 7.1.2
-  Eigen::VectorXd d = L.rowwise().norm() / opt.scale;        // eq. 7.1.5
+  MatrixX3dR L;
+  Eigen::VectorXd d;
+  LaplacianCarrierField field;
+  if (thesis_carrier) {
+    L = laplacian_coordinates(V, A, eps_measure);  // eq. 7.1.2
+    d = L.rowwise().norm() / opt.scale;             // eq. 7.1.5
+  } else {
+    field = laplacian_carrier(V, A, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
+    d = field.value;
+  }
 
   LaplacianEmbedResult R;
   R.d_target = d;
   R.n_moved = select_targets(d, hist, pairs, bits, opt, opt.thesis_exact, R.d_target).n_moved;
-  MatrixX3dR dL = length_change(L, d, R.d_target);
+  MatrixX3dR dL = thesis_carrier ? length_change(L, d, R.d_target) : carrier_change(field, d, R.d_target);
 
   if (opt.thesis_exact) {
     // §7.2.2: X^ = M^-1 L^ with M = K - eps I (eq. 7.1.4), L^ = L + dL.
@@ -334,11 +355,29 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
   const VectorXi comp = component_labels(A, n, n_comp, opt.iterations > 0 ? &order : nullptr);
   const double eps_solve = 1e-8;
   if (opt.iterations <= 0) {  // direct: one exact solve, as §7.2.2
-    remove_component_mean(comp, n_comp, dL);
-    MatrixX3dR dX = solve(kirchhoff_matrix_shifted(A, eps_solve), dL, true);
-    remove_component_mean(comp, n_comp, dX);
-    R.V = V + dX;
-    R.rounds = 1;
+    const Eigen::SparseMatrix<double> M = kirchhoff_matrix_shifted(A, eps_solve);
+    R.V = V;
+    VectorXb used(n);
+    for (Index i = 0; i < n; ++i) used[i] = A.ptr[i + 1] > A.ptr[i] ? 1 : 0;
+    for (int round = 0;; ++round) {
+      remove_component_mean(comp, n_comp, dL);
+      MatrixX3dR dX = solve(M, dL, true);
+      remove_component_mean(comp, n_comp, dX);
+      R.V += dX;
+      R.rounds = round + 1;
+      // The thesis carrier is reached by the one solve (L = K X is linear). The other carriers depend
+      // on the 1-ring's edge lengths and normals too: re-read and top up, as the iterative rounds do.
+      if (thesis_carrier || round + 1 >= opt.max_rounds) break;
+      field = laplacian_carrier(R.V, A, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
+      const LaplacianHistogram h = laplacian_histogram(field.value, hist.K, hist.lo, hist.hi, used);
+      Eigen::VectorXd dt = field.value;
+      const Selection S = select_targets(field.value, h, pairs, bits, opt, false, dt);
+      if (S.short_pairs == 0) break;
+      R.n_moved += S.n_moved;
+      for (Index i = 0; i < n; ++i)
+        if (dt[i] != field.value[i]) R.d_target[i] = dt[i];
+      dL = carrier_change(field, field.value, dt);
+    }
     return R;
   }
   // Iterative (default): the solve only has to put the histogram where the mark needs it. Each round
@@ -358,6 +397,12 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     comp_p[k] = comp[order[k]];
     mask[k] = Ap.ptr[k + 1] > Ap.ptr[k] ? 1 : 0;
   }
+  MatrixX3iR Tp;  // the triangles in the breadth-first numbering (carriers other than the thesis')
+  if (!thesis_carrier) {
+    Tp.resize(opt.triangles->rows(), 3);
+    for (Eigen::Index t = 0; t < Tp.rows(); ++t)
+      for (int c = 0; c < 3; ++c) Tp(t, c) = inv[(*opt.triangles)(t, c)];
+  }
   MatrixX3dR dX(n, 3);
   for (int round = 0;; ++round) {
     remove_component_mean(comp_p, n_comp, dLp);
@@ -366,8 +411,13 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     X += dX;
     R.rounds = round + 1;
     if (round + 1 >= opt.max_rounds) break;
-    L = laplacian_coordinates(X, Ap, 0.0);
-    d = L.rowwise().norm() / opt.scale;
+    if (thesis_carrier) {
+      L = laplacian_coordinates(X, Ap, 0.0);
+      d = L.rowwise().norm() / opt.scale;
+    } else {
+      field = laplacian_carrier(X, Ap, Tp, opt.carrier, opt.scale, true, opt.compress);
+      d = field.value;
+    }
     const LaplacianHistogram h = laplacian_histogram(d, hist.K, hist.lo, hist.hi, mask);
     Eigen::VectorXd dt = d;
     const Selection S = select_targets(d, h, pairs, bits, opt, false, dt);
@@ -375,7 +425,7 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     R.n_moved += S.n_moved;
     for (Index k = 0; k < n; ++k)
       if (dt[k] != d[k]) R.d_target[order[k]] = dt[k];
-    dLp = length_change(L, d, dt);
+    dLp = thesis_carrier ? length_change(L, d, dt) : carrier_change(field, d, dt);
   }
   R.V.resize(n, 3);
   for (Index k = 0; k < n; ++k) R.V.row(order[k]) = X.row(k);

@@ -159,6 +159,9 @@ def _method_options(f):
                      help="cho-*: strength factor, (0, 0.5) mean, (0, 1/3) variance (default 0.04 for cho-mean, 0.16 for cho-variance).")(f)
     f = click.option("--thesis-exact", is_flag=True, default=False,
                      help="laplacian, cho-*: run the published algorithm to the letter (no robustness fixes).")(f)
+    f = click.option("--carrier", type=click.Choice(["local", "thesis", "normal", "normal_global", "cot_local", "cot_normal"]),
+                     default=None, help="laplacian: the binned scalar (default local: ||L|| over the 1-ring's mean edge "
+                                        "length; thesis: over the global mean edge length; docs/carrier.md).")(f)
     f = click.option("--solver", type=click.Choice(["iterative", "direct"]), default=None,
                      help="laplacian: reconstruction, PCG rounds that stop when every carrier holds its margin "
                           "(default iterative) or one exact sparse solve (direct).")(f)
@@ -435,9 +438,12 @@ def steganalysis():
 @click.option("--k-min", "K_min", type=int, default=1, show_default=True, help="Smallest bin number tried.")
 @click.option("--k-max", "K_max", type=int, default=500, show_default=True, help="Largest bin number tried.")
 @click.option("--eps", type=float, default=0.15, show_default=True, help="eq. 6.4.16 tolerance.")
-@click.option("--eps2", type=float, default=0.03, show_default=True, help="eq. 6.4.17 balance tolerance.")
+@click.option("--eps2", type=float, default=0.03, show_default=True, help="eq. 6.4.17 balance tolerance (with --thesis-exact).")
+@click.option("--thesis-exact", is_flag=True, help="Literal eq. 6.4.17 instead of the binomial balance test.")
+@click.option("--false-reject", type=float, default=0.01, show_default=True,
+              help="Balance test: rate at which random-message marks are rejected.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def steganalysis_cho(inp, K_min, K_max, eps, eps2, as_json):
+def steganalysis_cho(inp, K_min, K_max, eps, eps2, thesis_exact, false_reject, as_json):
     """Does IN carry a watermark of Cho et al.'s mean method? (thesis §6.4)
 
     Exit status: 0 marked, 1 not marked, 2 usage/input error, 3 internal error.
@@ -446,15 +452,19 @@ def steganalysis_cho(inp, K_min, K_max, eps, eps2, as_json):
     from .steganalysis.cho import analyze
 
     mesh = read_mesh(inp)
-    r = analyze(mesh, K_min=K_min, K_max=K_max, eps=eps, eps2=eps2)
+    r = analyze(mesh, K_min=K_min, K_max=K_max, eps=eps, eps2=eps2, thesis_exact=thesis_exact,
+                false_reject=false_reject)
     d = {"input": inp, "k_estimate": int(r["k_estimate"]), "bhattacharyya": float(r["bhattacharyya"]),
          "marked": bool(r["marked"]), "eq_6_4_16": bool(r["eq_6_4_16"]), "eq_6_4_17": bool(r["eq_6_4_17"]),
          "min_C": float(r["min_C"]), "max_Ctilde": float(r["max_Ctilde"]), "size_C": int(r["size_C"]),
-         "size_Ctilde": int(r["size_Ctilde"])}
+         "size_Ctilde": int(r["size_Ctilde"]), "balance_test": bool(r["balance_test"]),
+         "p_balance": float(r["p_balance"]), "thesis_exact": bool(thesis_exact)}
+    rule = "(literal eq. 6.4.17)" if thesis_exact else f"(binomial, p = {d['p_balance']:.3g})"
     text = (f"{inp}: {'MARKED' if d['marked'] else 'clean'} (Cho mean method)\n"
             f"estimated bins K' = {d['k_estimate']}  Bhattacharyya D = {d['bhattacharyya']:.4g}\n"
             f"clusters {d['size_C']} / {d['size_Ctilde']}, min C {d['min_C']:.4f}, max C~ {d['max_Ctilde']:.4f}; "
-            f"eq. 6.4.16 {'holds' if d['eq_6_4_16'] else 'fails'}, eq. 6.4.17 {'holds' if d['eq_6_4_17'] else 'fails'}")
+            f"eq. 6.4.16 {'holds' if d['eq_6_4_16'] else 'fails'}, eq. 6.4.17 {'holds' if d['eq_6_4_17'] else 'fails'}; "
+            f"balance rule {rule} {'holds' if d['balance_test'] else 'fails'}")
     _emit(d, as_json, text)
     sys.exit(0 if d["marked"] else 1)
 
@@ -462,6 +472,12 @@ from .stego.cli import stego as _stego_cli; main.add_command(_stego_cli)  # noqa
 
 
 from .analysis.cli import analyze; main.add_command(analyze)  # noqa: E402,E702  (thesis ch. 3-5)
+
+from .steganalysis.cli import add_commands as _steganalysis_commands; _steganalysis_commands(steganalysis)  # noqa: E402,E702
+
+
+main.add_command(__import__("meshmark.study.cli", fromlist=["study"]).study)
+
 
 if __name__ == "__main__":  # pragma: no cover
     main()

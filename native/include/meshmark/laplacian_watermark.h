@@ -9,6 +9,7 @@
 // The Python layer (meshmark.watermark.laplacian) chooses the carriers and the bits (key, payload
 // coding) and normalises d by the mean edge length; this layer only does the per-element work.
 #pragma once
+#include "meshmark/laplacian_carrier.h"
 #include "meshmark/mesh.h"
 #include "meshmark/vertex_adjacency.h"
 
@@ -41,11 +42,19 @@ struct LaplacianEmbedOptions {
                               // eps; false (default): see docs/laplacian.md (margin in every pair,
                               // moved lengths kept off bin edges, zero-mean update solved with +eps)
   double scale = 1.0;         // d used for binning = ||L_i|| / scale (meshmark: mean edge length)
-  // Reconstruction when !thesis_exact: iterations <= 0 solves (K + 1e-8 I) dX = dL exactly (CHOLMOD);
+  // Reconstruction when !thesis_exact: iterations <= 0 solves (K + 1e-8 I) dX = dL exactly (CHOLMOD; once for
+  // the thesis carrier, in rounds that top up the short pairs for the others, which are not linear in X);
   // iterations > 0 (default) runs rounds of that many PCG steps, re-reading the histogram after each
   // and topping up the pairs that lack part of their margin, at most max_rounds rounds.
   int iterations = 5;
   int max_rounds = 8;
+  // The scalar that is binned (laplacian_carrier.h). Thesis: d_i = ||L_i|| / scale from the adjacency,
+  // as above. The others are computed by laplacian_carrier() from the adjacency and `triangles` (the
+  // mesh's triangles, which must outlive the call; may be empty for Local), and the target values are
+  // realised by changing L_i along the field's direction (eq. 7.2.19 generalised).
+  LaplacianCarrier carrier = LaplacianCarrier::Thesis;
+  double compress = 0.0;  // laplacian_carrier()'s asinh compression (0: none)
+  const Eigen::Ref<const MatrixX3iR>* triangles = nullptr;
 };
 
 struct LaplacianEmbedResult {

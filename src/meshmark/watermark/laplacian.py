@@ -27,12 +27,61 @@ from ..mesh import Mesh, as_mesh
 from . import framework
 
 NAME = "laplacian"
-DEFAULTS = {"K": None, "n_thr": 46, "n_robust": 5, "eps": 1e-5, "thesis_exact": False, "solver": "iterative"}
 SOLVERS = {"iterative": 5, "direct": 0}  # PCG steps per round (docs/laplacian.md); 0 = one exact solve
+MAX_SOLVE_ROUNDS = 8  # rounds of the iterative reconstruction
+# The binned scalar (native/include/meshmark/laplacian_carrier.h, docs/carrier.md): name -> (native
+# kind, asinh compression, divided by the global mean edge length). "thesis" is ||L_i|| (eq. 7.1.5)
+# over the global mean edge length; "local" ||L_i|| / l_i and "normal" (L_i . n_i) / l_i use the mean
+# length l_i of the vertex's own edges; "cot_*" use the cotangent Laplacian; "normal_global" is
+# (L_i . n_i) over the global mean edge length. (The native asinh compression is measured by
+# examples/carrier_skinning.py only: it loses bits to OBJ rounding.) Keyfiles without the field use "thesis".
+CARRIERS = {"thesis": (0, 0.0, True), "local": (1, 0.0, False), "normal": (2, 0.0, False),
+            "cot_local": (3, 0.0, False), "cot_normal": (4, 0.0, False), "normal_global": (5, 0.0, True)}
+DEFAULT_CARRIER = "local"  # docs/carrier.md: detected on more frames of the Blender rigs
+DEFAULTS = {"K": None, "n_thr": 46, "n_robust": 5, "eps": 1e-5, "thesis_exact": False, "solver": "iterative",
+            "carrier": DEFAULT_CARRIER}
+
+
+def carrier_of(p: dict) -> str:
+    """The carrier recorded in resolved parameters (keyfiles written before the option: the thesis')."""
+    return p.get("carrier") or "thesis"
+
+
+def _carrier_field(mesh: Mesh, carrier: str):
+    """(E, s, scale): edges, the carrier scalar of every vertex (native) and the global unit it was
+    divided by (the mean edge length, or 1 for the locally normalised carriers)."""
+    if carrier not in CARRIERS:
+        raise MeshError(f"carrier must be one of {', '.join(CARRIERS)}, got {carrier!r}")
+    E = _edges(mesh)
+    kind, compress, global_unit = CARRIERS[carrier]
+    if carrier == "thesis":  # the extraction's one-pass path (edges only)
+        d, mel = _core.laplacian_lengths_scaled(mesh.V, E, 0.0)
+        return E, d / mel, mel
+    scale = _core.mean_edge_length(mesh.V, E) if global_unit else 1.0
+    return E, _core.laplacian_carrier(mesh.V, E, _triangles(mesh, carrier), kind, scale, compress), scale
+
+
+def carrier_values(mesh: Mesh, carrier: str) -> np.ndarray:
+    """(n,) carrier scalar of every vertex (native, laplacian_carrier.h); "thesis" in mean edge lengths."""
+    return _carrier_field(mesh, carrier)[1]
 
 
 def _edges(mesh: Mesh) -> np.ndarray:
     return mesh.edges()
+
+
+NO_TRIANGLES = np.zeros((0, 3), np.int32)
+
+
+def _triangles(mesh: Mesh, carrier: str = "normal") -> np.ndarray:
+    """(t, 3) int32 triangles for the carriers that need normals or cotangent weights (cached with the
+    topology); an empty array for "thesis" and "local", which use the edges only."""
+    if carrier in ("thesis", "local"):
+        return NO_TRIANGLES
+    topo = mesh._topology
+    if "triangles" not in topo:
+        topo["triangles"] = np.ascontiguousarray(mesh.triangles, dtype=np.int32)
+    return topo["triangles"]
 
 
 def _referenced(mesh: Mesh) -> np.ndarray:
@@ -67,6 +116,12 @@ class _Laplacian:
         p["thesis_exact"] = check_bool("thesis_exact", p["thesis_exact"])
         if p["solver"] not in SOLVERS:
             raise MeshError(f"solver must be one of {', '.join(SOLVERS)}, got {p['solver']!r}")
+        if p["carrier"] not in CARRIERS:
+            raise MeshError(f"carrier must be one of {', '.join(CARRIERS)}, got {p['carrier']!r}")
+        if p["thesis_exact"]:  # the thesis' own scalar; the default carrier is replaced, another one refused
+            if p["carrier"] not in ("thesis", DEFAULT_CARRIER):
+                raise MeshError(f"thesis_exact=True uses the thesis carrier; got carrier={p['carrier']!r}")
+            p["carrier"] = "thesis"
         return p
 
     def describe(self, p: dict) -> str:
@@ -77,14 +132,17 @@ class _Laplacian:
         """(E, d / scale, scale): edges, normalised Laplacian lengths (eq. 7.1.5) and the scale unit,
         computed once per mesh (native, one pass over the edges)."""
         eps = p["eps"] if p["thesis_exact"] else 0.0
+        carrier = carrier_of(p)
 
         def compute():
             E = _edges(mesh)
+            if carrier != "thesis" and not p["thesis_exact"]:  # laplacian_carrier.h
+                return _carrier_field(mesh, carrier)
             d, mel = _core.laplacian_lengths_scaled(mesh.V, E, eps)
             scale = 1.0 if p["thesis_exact"] else mel
             return E, d / scale, scale
 
-        return mesh.cached(("laplacian_lengths", eps, bool(p["thesis_exact"])), compute)
+        return mesh.cached(("laplacian_lengths", eps, bool(p["thesis_exact"]), carrier), compute)
 
     def carriers(self, mesh: Mesh, p: dict):
         E, d, scale = self._lengths(mesh, p)
@@ -93,7 +151,8 @@ class _Laplacian:
         _, counts = _core.laplacian_histogram(d, p["K"], lo, hi, mask)
         f = counts[1:-1:2][: (p["K"] - 2) // 2] + counts[2::2][: (p["K"] - 2) // 2]
         ids = np.flatnonzero(f >= p["n_thr"])  # eq. 7.1.8
-        return ids, {"lo": lo, "hi": hi, "scale": "mean_edge_length" if not p["thesis_exact"] else "none"}
+        unit = "none" if p["thesis_exact"] else "mean_edge_length" if CARRIERS[carrier_of(p)][2] else "local"
+        return ids, {"lo": lo, "hi": hi, "scale": unit}
 
     def _histogram(self, mesh: Mesh, p: dict, side: dict):
         E, d, scale = self._lengths(mesh, p)
@@ -106,11 +165,13 @@ class _Laplacian:
         pm = np.where(np.asarray(bits) > 0, 1, -1)
         V, _, n_moved, rounds, iters = _core.laplacian_embed(
             mesh.V, E, bins, counts, side["lo"], side["hi"], [int(i) for i in ids], pm.tolist(), p["n_robust"],
-            p["eps"], p["thesis_exact"], scale, SOLVERS[p.get("solver", "iterative")])
+            p["eps"], p["thesis_exact"], scale, SOLVERS[p.get("solver", "iterative")], MAX_SOLVE_ROUNDS,
+            CARRIERS[carrier_of(p)][0],
+            _triangles(mesh, carrier_of(p)), CARRIERS[carrier_of(p)][1])
         side = dict(side)
         if not p["thesis_exact"]:  # express the range in units of the marked mesh's mean edge length
             _, dm, scale_marked = self._lengths(mesh.with_vertices(V), p)
-            r = scale / scale_marked
+            r = scale / scale_marked  # 1 for the locally normalised carriers
             side["lo"], side["hi"] = side["lo"] * r, side["hi"] * r
             # The range search may be used at extraction only if, on the marked mesh itself, it finds
             # t = 1: on skewed histograms (huge first bins) a shifted range can score higher by chance.

@@ -1,0 +1,50 @@
+// meshmark: the per-vertex scalar that carries the Laplacian watermark (thesis ch. 7).
+//
+// The thesis bins d_i = ||L_i|| (eq. 7.1.5) of the uniform Laplacian L = K X (eqs. 7.1.2-7.1.3).
+// meshmark divides it by the global mean edge length (docs/laplacian.md, "Beyond the thesis" (c)).
+// Under skinning every vertex's value then drifts with the global scale, and the tangential part of
+// L_i changes whenever the 1-ring is stretched. The alternatives below are measured on Blender rigs in
+// docs/carrier.md (examples/carrier_skinning.py). All are invariant under translation, rotation,
+// uniform scaling and vertex reordering, as the thesis requires of its carrier (§7.4.2).
+#pragma once
+#include "meshmark/mesh.h"
+#include "meshmark/vertex_adjacency.h"
+
+namespace meshmark {
+
+enum class LaplacianCarrier : int {
+  Thesis = 0,     // s_i = ||L_i|| / scale              (eq. 7.1.5; scale = mean edge length, or 1)
+  Local = 1,      // s_i = ||L_i|| / l_i                 (l_i = mean length of the edges at v_i)
+  Normal = 2,     // s_i = (L_i . n_i) / l_i             (signed normal component; n_i area-weighted normal)
+  CotLocal = 3,   // s_i = ||C_i|| l_i / A_i             (C_i = 1/2 sum_j (cot a_ij + cot b_ij)(x_i - x_j),
+                  //                                      A_i = one third of the incident triangle areas)
+  CotNormal = 4,  // s_i = (C_i . n_i) l_i / A_i         (signed mean-curvature normal, in units of l_i)
+  NormalGlobal = 5,  // s_i = (L_i . n_i) / scale        (signed normal component in the thesis carrier's unit)
+};
+
+struct LaplacianCarrierField {
+  Eigen::VectorXd value;  // (n,) s_i; 0 for vertices without edges (or without area, cotangent kinds)
+  // For the embedding (only when asked): the change of the uniform Laplacian L_i that raises s_i by
+  // one unit, to first order, is direction_i * gain_i (eq. 7.2.19 generalised: for Thesis this is
+  // L_i / ||L_i|| * scale, so that dL = L (d^/d - 1) as in the thesis).
+  MatrixX3dR direction;   // (n, 3) unit vectors
+  Eigen::VectorXd gain;   // (n,)
+};
+
+// The carrier scalar of every vertex, from the unique edges E (the polygon edge graph: L_i is the
+// thesis' uniform Laplacian over it, eqs. 7.1.2-7.1.3 with eps = 0) and the triangles T (normals and
+// cotangent weights; T may be empty for Thesis and Local). One pass over the edges, one over the
+// triangles; no adjacency is built.
+// compress > 0 bins asinh(s_i / compress) instead of s_i: linear near 0, logarithmic for |s| >> compress,
+// so that K uniform bins (eq. 7.1.6) grow with |s| (long-tailed histograms give fewer tiny pairs).
+LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX2iR>& E,
+                                        const Eigen::Ref<const MatrixX3iR>& T, LaplacianCarrier kind,
+                                        double scale = 1.0, bool with_direction = false, double compress = 0.0);
+
+// The same from the CSR adjacency (the embedding's rounds: each vertex gathers its 1-ring, no scattered
+// writes). Identical values up to the summation order.
+LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A,
+                                        const Eigen::Ref<const MatrixX3iR>& T, LaplacianCarrier kind,
+                                        double scale = 1.0, bool with_direction = false, double compress = 0.0);
+
+}  // namespace meshmark

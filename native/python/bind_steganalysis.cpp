@@ -1,0 +1,40 @@
+#include "bindings.h"
+
+#include "meshmark/feature_statistics.h"
+#include "meshmark/lfs76_features.h"
+#include "meshmark/nvt36_features.h"
+#include "meshmark/unit_cube_normalize.h"
+#include "meshmark/yang208_features.h"
+
+#include <pybind11/eigen.h>
+
+namespace py = pybind11;
+
+namespace meshmark::python {
+
+void bind_steganalysis(py::module_& m) {
+  using VRef = Eigen::Ref<const MatrixX3dR>;
+  using TRef = Eigen::Ref<const MatrixX3iR>;
+  using XRef = Eigen::Ref<const Eigen::VectorXd>;
+  m.def("yang208_features", [](VRef V, TRef T) {
+          py::gil_scoped_release release;
+          return yang208_features(V, T);
+        }, py::arg("V"), py::arg("T"));
+  m.def("lfs76_features", [](VRef V, TRef T, double dt, double t_max) {
+          py::gil_scoped_release release;
+          return lfs76_features(V, T, dt, t_max);
+        }, py::arg("V"), py::arg("T"), py::arg("dt") = 0.3, py::arg("t_max") = 3.0);
+  m.def("nvt36_features", [](VRef V, TRef T) {
+          py::gil_scoped_release release;
+          return nvt36_features(V, T);
+        }, py::arg("V"), py::arg("T"));
+  m.def("unit_cube_normalize", [](VRef V, Eigen::Ref<const VectorXb> mask) { return unit_cube_normalize(V, mask); },
+        py::arg("V"), py::arg("mask"));
+  m.def("feature_moments4", [](XRef x) { return Eigen::Vector4d(moments4(x)); }, py::arg("x"));
+  m.def("feature_log_moments", [](XRef x, double floor) { return Eigen::Vector4d(log_moments(x, floor)); },
+        py::arg("x"), py::arg("floor"));
+  m.def("feature_fd_bins", [](XRef x) { return fd_bins_exact(x); }, py::arg("x"));
+  m.def("feature_histogram_moments", [](XRef x) { return Eigen::Vector4d(histogram_moments(x)); }, py::arg("x"));
+}
+
+}  // namespace meshmark::python

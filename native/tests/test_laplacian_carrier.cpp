@@ -1,0 +1,77 @@
+// C++ tests of laplacian_carrier.h: analytic values on the icosahedron, and the two overloads (edge
+// list for extraction, adjacency for the embedding's rounds) agree on an irregular mesh.
+#include "meshmark/error.h"
+#include "meshmark/laplacian_carrier.h"
+#include "meshmark/unique_edges.h"
+#include "meshmark/vertex_adjacency.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace meshmark;
+
+namespace {
+void icosahedron(MatrixX3dR& V, MatrixX3iR& T) {
+  const double p = (1 + std::sqrt(5.0)) / 2;
+  V.resize(12, 3);
+  V << -1, p, 0, 1, p, 0, -1, -p, 0, 1, -p, 0, 0, -1, p, 0, 1, p, 0, -1, -p, 0, 1, -p, p, 0, -1, p, 0, 1, -p, 0, -1,
+      -p, 0, 1;
+  V /= V.row(0).norm();
+  T.resize(20, 3);
+  T << 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8, 3, 9, 4, 3, 4,
+      2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1;
+}
+}  // namespace
+
+TEST(LaplacianCarrier, IcosahedronAnalytic) {
+  MatrixX3dR V;
+  MatrixX3iR T;
+  icosahedron(V, T);
+  const MatrixX2iR E = unique_edges(12, Polygons::from_triangles(T)).E;
+  const double a = std::sqrt(2 - 2 / std::sqrt(5.0)), lap = 5 * (1 - 1 / std::sqrt(5.0));
+  const double area = 5.0 / 3.0 * std::sqrt(3.0) / 4 * a * a;
+  const double expect[6] = {lap / 2.0, lap / a, lap / a, lap / std::sqrt(3.0) * a / area,
+                            lap / std::sqrt(3.0) * a / area, lap / 2.0};
+  for (int k = 0; k < 6; ++k) {
+    const auto F = laplacian_carrier(V, E, T, static_cast<LaplacianCarrier>(k), 2.0, true);
+    for (int i = 0; i < 12; ++i) {
+      EXPECT_NEAR(F.value[i], expect[k], 1e-12) << "kind " << k;
+      EXPECT_NEAR(F.direction.row(i).dot(V.row(i)), 1.0, 1e-12) << "kind " << k;  // outward, unit
+    }
+  }
+}
+
+TEST(LaplacianCarrier, EdgeAndAdjacencyOverloadsAgree) {
+  MatrixX3dR V;
+  MatrixX3iR T;
+  icosahedron(V, T);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.1, 0.1);
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    for (int c = 0; c < 3; ++c) V(i, c) += u(rng);
+  const MatrixX2iR E = unique_edges(12, Polygons::from_triangles(T)).E;
+  const Adjacency A = vertex_adjacency(12, E);
+  for (int k = 0; k < 6; ++k) {
+    const auto kind = static_cast<LaplacianCarrier>(k);
+    const auto Fe = laplacian_carrier(V, E, T, kind, 0.7, true, k == 2 ? 0.1 : 0.0);
+    const auto Fa = laplacian_carrier(V, A, T, kind, 0.7, true, k == 2 ? 0.1 : 0.0);
+    for (int i = 0; i < 12; ++i) {
+      EXPECT_NEAR(Fe.value[i], Fa.value[i], 1e-12 * (1 + std::abs(Fe.value[i]))) << "kind " << k;
+      EXPECT_NEAR(Fe.gain[i], Fa.gain[i], 1e-12 * (1 + std::abs(Fe.gain[i]))) << "kind " << k;
+    }
+  }
+}
+
+TEST(LaplacianCarrier, BadInputIsAnError) {
+  MatrixX3dR V;
+  MatrixX3iR T;
+  icosahedron(V, T);
+  const MatrixX2iR E = unique_edges(12, Polygons::from_triangles(T)).E;
+  const MatrixX3iR none(0, 3);
+  EXPECT_THROW(laplacian_carrier(V, E, none, LaplacianCarrier::Normal), MeshError);
+  EXPECT_THROW(laplacian_carrier(V, E, T, static_cast<LaplacianCarrier>(9)), MeshError);
+  EXPECT_THROW(laplacian_carrier(V, E, T, LaplacianCarrier::Thesis, 0.0), MeshError);
+  EXPECT_NO_THROW(laplacian_carrier(V, E, none, LaplacianCarrier::Local));
+}

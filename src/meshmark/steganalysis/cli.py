@@ -1,0 +1,141 @@
+"""``meshmark steganalysis features|train|detect|evaluate`` (registered on the ``steganalysis`` group of
+meshmark.cli; ``cho`` lives there). Bad input raises MeshError (exit status 2)."""
+from __future__ import annotations
+
+import csv
+import json
+import pathlib
+import sys
+
+import click
+
+from .._core import MeshError
+
+
+def _emit(d, as_json, text):
+    click.echo(json.dumps(d, indent=2) if as_json else text)
+
+
+def _set_option(f):
+    return click.option("--set", "feature_set", default="yang208", show_default=True,
+                        help="Feature set: yang208, lfs76, nvt36 or a '+' combination (lfs76+nvt36).")(f)
+
+
+def add_commands(group: click.Group) -> None:
+    @group.command("features")
+    @click.argument("inp", metavar="IN")
+    @_set_option
+    @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+    def features_cmd(inp, feature_set, as_json):
+        """The steganalysis feature vector of IN."""
+        from .features import feature_names, features
+
+        F = features(inp, feature_set)
+        names = feature_names(feature_set)
+        d = {"input": inp, "set": feature_set, "n_features": int(F.size), "features": [float(x) for x in F],
+             "names": names}
+        _emit(d, as_json, "\n".join(f"{n:32s} {x: .6g}" for n, x in zip(names, F)))
+
+    @group.command("train")
+    @click.argument("covers", nargs=-1, required=True)
+    @click.option("--out", "out", required=True, type=click.Path(dir_okay=False), help="Model file to write (.npz).")
+    @_set_option
+    @click.option("--classifier", type=click.Choice(["ensemble", "qda"]), default="ensemble", show_default=True)
+    @click.option("--methods", default=None, help="Comma-separated stego methods to generate (default: all registered; 'none': only --stego).")
+    @click.option("--stego", "stego", multiple=True, help="Folder or file of stego meshes made elsewhere (repeatable).")
+    @click.option("--seed", type=int, default=0, show_default=True)
+    @click.option("--json", "as_json", is_flag=True, help="Print a summary as JSON.")
+    def train_cmd(covers, out, feature_set, classifier, methods, stego, seed, as_json):
+        """Train a universal and per-method detectors on the cover meshes COVERS (files or folders) and
+        their stego versions, and save the model to --out."""
+        import numpy as np
+
+        from . import protocol as P
+        from .model import Model, corpus_hash
+
+        paths = P.mesh_files(covers)
+        if not paths:
+            raise MeshError(f"empty training corpus: no .obj/.off/.ply/.stl meshes in {', '.join(covers)}")
+        ms = [] if methods == "none" else (methods.split(",") if methods else None)
+        with P.one_thread():
+            ds = P.build_dataset(paths, ms, (feature_set,), seed=seed)
+            X, y, lab = ds["X"][feature_set], ds["method"] != "cover", list(ds["method"])
+            if stego:
+                from .features import features
+                ext = [features(p, feature_set) for p in P.mesh_files(stego)]
+                if ext:
+                    X = np.vstack([X, ext])
+                    y = np.r_[y, np.ones(len(ext), bool)]
+                    lab += ["external"] * len(ext)
+            if len(X) == 0:
+                raise MeshError("empty training corpus: no cover could be read and featurised")
+            training = {"corpus_hash": corpus_hash(paths), "n_covers": int((~y).sum()), "n_stego": int(y.sum()),
+                        "methods": sorted({l for l in lab if l != "cover"}), "seed": seed,
+                        "covers": [pathlib.Path(p).name for p in ds["path"]]}
+            model = Model.train(X, y, lab, feature_set, classifier, training)
+        model.save(out)
+        d = {"model": out, "feature_set": feature_set, "classifier": classifier, **{k: v for k, v in training.items()
+                                                                                  if k != "covers"}}
+        _emit(d, as_json, f"wrote {out}: {classifier} on {feature_set}, {d['n_covers']} covers, {d['n_stego']} stego "
+                          f"({', '.join(d['methods'])})")
+
+    @group.command("detect")
+    @click.argument("inp", metavar="IN")
+    @click.option("--model", "model_path", default=None, type=click.Path(dir_okay=False),
+                  help="Model file (default: the model shipped with meshmark).")
+    @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+    def detect_cmd(inp, model_path, as_json):
+        """Is IN a stego mesh? Universal decision plus a probability per stego method.
+
+        Exit status: 0 marked, 1 not marked, 2 error."""
+        from .model import Model
+
+        model = Model.load(model_path)
+        r = model.detect(inp)
+        d = {"input": inp, "marked": bool(r["marked"]), "probability": r["probability"], "methods": r["methods"],
+             "feature_set": r["feature_set"], "classifier": r["classifier"],
+             "model": str(model_path or "default")}
+        per = ", ".join(f"{k} {v:.2f}" for k, v in sorted(r["methods"].items(), key=lambda kv: -kv[1]))
+        _emit(d, as_json, f"{inp}: {'MARKED' if d['marked'] else 'clean'} (universal P = {d['probability']:.2f})\n"
+                          f"per method: {per}")
+        sys.exit(0 if d["marked"] else 1)
+
+    @group.command("evaluate")
+    @click.argument("covers", nargs=-1, required=True)
+    @_set_option
+    @click.option("--classifier", type=click.Choice(["ensemble", "qda"]), default="ensemble", show_default=True)
+    @click.option("--splits", type=int, default=30, show_default=True)
+    @click.option("--test-fraction", type=float, default=0.3, show_default=True)
+    @click.option("--methods", default=None, help="Comma-separated stego methods (default: all registered).")
+    @click.option("--dataset", type=click.Path(dir_okay=False), help="Cache of the features (.npz): read if present, else written.")
+    @click.option("--csv", "csv_path", type=click.Path(dir_okay=False), help="Write one row per split and detector.")
+    @click.option("--json", "as_json", is_flag=True, help="Print the median table as JSON.")
+    def evaluate_cmd(covers, feature_set, classifier, splits, test_fraction, methods, dataset, csv_path, as_json):
+        """Thesis chapter 8 protocol on COVERS: random cover-level splits, specific and universal
+        detectors, median accuracy / TPR / FPR / P_E."""
+        from . import protocol as P
+
+        ds = None
+        if dataset and pathlib.Path(dataset).is_file():
+            ds = P.load_dataset(dataset)
+            P.dataset_features(ds, feature_set)  # MeshError if a set is missing
+        if ds is None:
+            paths = P.mesh_files(covers)
+            if not paths:
+                raise MeshError(f"empty corpus: no meshes in {', '.join(covers)}")
+            ms = methods.split(",") if methods else None
+            with P.one_thread():
+                ds = P.build_dataset(paths, ms, tuple(feature_set.split("+")))
+            if dataset:
+                P.save_dataset(ds, dataset)
+        rows = P.evaluate(ds, feature_set, classifier, splits, test_fraction)
+        if csv_path:
+            with open(csv_path, "w", newline="") as f:
+                w = csv.DictWriter(f, fieldnames=list(rows[0]))
+                w.writeheader()
+                w.writerows(rows)
+        table = P.median_table(rows)
+        text = "| detector | splits | accuracy | TPR | FPR | P_E |\n|---|---:|---:|---:|---:|---:|\n" + "\n".join(
+            f"| {r['detector']} | {r['splits']} | {r['median_accuracy']:.3f} | {r['median_tpr']:.3f} | "
+            f"{r['median_fpr']:.3f} | {r['median_pe']:.3f} |" for r in table)
+        _emit({"feature_set": feature_set, "classifier": classifier, "table": table}, as_json, text)

@@ -1,0 +1,131 @@
+"""Steganalysis models: a universal detector plus one specific detector per stego method, saved with
+versioned metadata (docs/steganalysis.md §4).
+
+File format (``.npz``, read with ``allow_pickle=False``): ``meta`` is a UTF-8 JSON document
+``{"format": "meshmark-steganalysis-model", "format_version": 1, "feature_set", "n_features",
+"classifier", "detectors": {name: {"kind", "params", "method"}}, "training": {"corpus_hash",
+"n_covers", "n_stego", "methods", ...}, "meshmark_version"}``; every other entry is an array named
+``<detector>/<array>``. The universal detector is called ``universal``; the specific ones ``specific:<method>``.
+"""
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import os
+import pathlib
+import tempfile
+
+import numpy as np
+
+from .._core import MeshError
+from . import classifiers as clf
+from .features import feature_length, features as compute_features
+
+FORMAT = "meshmark-steganalysis-model"
+FORMAT_VERSION = 1
+DEFAULT_MODEL = pathlib.Path(__file__).with_name("default_model.npz")
+
+
+class Model:
+    def __init__(self, feature_set: str, classifier: str, detectors: dict, methods: dict, training: dict):
+        self.feature_set = feature_set
+        self.classifier = classifier
+        self.detectors = detectors  # name -> fitted classifier
+        self.methods = methods      # name -> stego method (None for universal)
+        self.training = training
+
+    # --- training ---------------------------------------------------------------------------
+    @classmethod
+    def train(cls, X, y, method_labels, feature_set: str, classifier: str = "ensemble",
+              training: dict | None = None, **params) -> "Model":
+        """Fit the universal detector on all of (X, y) and one specific detector per method on the
+        covers plus that method's stego meshes. ``method_labels`` names the method of each stego row
+        (ignored for covers). MeshError for an empty set or a single class."""
+        X = np.asarray(X, float)
+        y = np.asarray(y, int)
+        if X.ndim != 2 or len(X) == 0:
+            raise MeshError("empty training corpus: no feature vectors")
+        if X.shape[1] != feature_length(feature_set):
+            raise MeshError(f"features have {X.shape[1]} columns, the {feature_set} set has {feature_length(feature_set)}")
+        labels = np.asarray(method_labels, dtype=object)
+        dets, methods = {}, {}
+        dets["universal"] = clf.make(classifier, **params).fit(X, y)
+        methods["universal"] = None
+        for m in sorted({str(l) for l, t in zip(labels, y) if t == 1}):
+            sel = (y == 0) | (labels == m)
+            dets[f"specific:{m}"] = clf.make(classifier, **params).fit(X[sel], y[sel])
+            methods[f"specific:{m}"] = m
+        return cls(feature_set, classifier, dets, methods, dict(training or {}))
+
+    # --- use ----------------------------------------------------------------------------------
+    def detect_features(self, F) -> dict:
+        F = np.asarray(F, float).reshape(1, -1)
+        if F.shape[1] != feature_length(self.feature_set):
+            raise MeshError(f"feature vector has {F.shape[1]} components, the model needs {self.feature_set}")
+        p = float(self.detectors["universal"].predict_proba(F)[0])
+        per = {self.methods[k]: float(d.predict_proba(F)[0]) for k, d in self.detectors.items() if k != "universal"}
+        return {"marked": p > 0.5, "probability": p, "methods": per, "feature_set": self.feature_set,
+                "classifier": self.classifier}
+
+    def detect(self, mesh) -> dict:
+        return self.detect_features(compute_features(mesh, self.feature_set))
+
+    # --- files --------------------------------------------------------------------------------
+    def save(self, path) -> None:
+        from .. import __version__
+        meta = {"format": FORMAT, "format_version": FORMAT_VERSION, "feature_set": self.feature_set,
+                "n_features": feature_length(self.feature_set), "classifier": self.classifier,
+                "detectors": {k: {"kind": d.kind, "params": d.params(), "method": self.methods[k]}
+                              for k, d in self.detectors.items()},
+                "training": self.training, "meshmark_version": __version__}
+        arrays = {"meta": np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)}
+        for k, d in self.detectors.items():
+            for a, v in d.arrays().items():
+                arrays[f"{k}/{a}"] = np.asarray(v)
+        path = pathlib.Path(path)
+        buf = io.BytesIO()
+        np.savez_compressed(buf, **arrays)
+        fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", suffix=".tmp")
+        try:
+            with os.fdopen(fd, "wb") as f:
+                f.write(buf.getvalue())
+            os.replace(tmp, path)  # atomic: a failed save leaves no file
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
+
+    @classmethod
+    def load(cls, path=None) -> "Model":
+        path = pathlib.Path(path) if path is not None else DEFAULT_MODEL
+        try:
+            z = np.load(path, allow_pickle=False)
+            meta = json.loads(bytes(z["meta"]).decode())
+        except FileNotFoundError:
+            raise MeshError(f"model file {path} does not exist") from None
+        except Exception as exc:  # not an npz, or no meta
+            raise MeshError(f"{path} is not a meshmark steganalysis model ({exc})") from None
+        if meta.get("format") != FORMAT:
+            raise MeshError(f"{path} is not a meshmark steganalysis model (format {meta.get('format')!r})")
+        if meta.get("format_version") != FORMAT_VERSION:
+            raise MeshError(f"model file {path} has format version {meta.get('format_version')}; this meshmark "
+                            f"reads version {FORMAT_VERSION}: retrain it with `meshmark steganalysis train`")
+        fs = meta["feature_set"]
+        if feature_length(fs) != meta.get("n_features"):
+            raise MeshError(f"model file {path}: feature set {fs} has {feature_length(fs)} features here, "
+                            f"{meta.get('n_features')} in the model")
+        dets, methods = {}, {}
+        for k, d in meta["detectors"].items():
+            a = {name.split("/", 1)[1]: z[name] for name in z.files if name.startswith(k + "/")}
+            dets[k] = clf.CLASSIFIERS[d["kind"]].from_arrays(d["params"], a)
+            methods[k] = d["method"]
+        return cls(fs, meta["classifier"], dets, methods, meta.get("training", {}))
+
+
+def corpus_hash(paths) -> str:
+    """sha256 over the sorted (file name, sha256 of its bytes) of the training covers."""
+    h = hashlib.sha256()
+    for p in sorted(pathlib.Path(p) for p in paths):
+        h.update(p.name.encode() + b"\0" + hashlib.sha256(p.read_bytes()).hexdigest().encode() + b"\n")
+    return h.hexdigest()

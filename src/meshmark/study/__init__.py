@@ -1,0 +1,31 @@
+"""Studies at corpus scale: one engine for method x parameter x attack x mesh grids.
+
+A study spec (TOML or the same dict; schema in ``docs/studies.md``) lists meshes, watermark methods
+with parameter grids or random draws, attacks (single, chained, with strengths), measurements and
+seeds. :func:`run` expands it into tasks keyed by a hash of their inputs, runs them on a local
+process pool or on Dask, and appends the rows to Parquet partitions under ``OUT/results``; rerunning
+skips finished keys. ``meshmark study run|status|plot`` is the command line.
+
+* :mod:`.spec` — loading, validation (errors name the TOML line), expansion, task keys;
+* :mod:`.task` — what a worker does with a chunk of tasks of one mesh;
+* :mod:`.engine` — planning, execution (process pool, Dask), Parquet, resume, status;
+* :mod:`.measure` — the measurement registry (:func:`register_measurement`);
+* :mod:`.store` — the content-addressed store of marked meshes (:class:`Store`);
+* :mod:`.plot` — standard figures and the CSV summary;
+* :mod:`.deform` — deformation attacks (bend; Blender's bend when bpy is present).
+"""
+import importlib
+
+_EXPORTS = {
+    "Spec": "spec", "load_spec": "spec", "plan": "spec", "embed_key": "spec", "mesh_digest": "spec",
+    "MEASUREMENTS": "measure", "register_measurement": "measure", "Measurement": "measure",
+    "Store": "store", "StoredMesh": "store",
+    "run": "engine", "status": "engine", "load_results": "engine", "Summary": "engine",
+}
+__all__ = list(_EXPORTS)
+
+
+def __getattr__(name):  # lazy: `meshmark --help` does not import pyarrow
+    if name in _EXPORTS:
+        return getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+    raise AttributeError(name)

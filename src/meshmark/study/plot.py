@@ -1,0 +1,148 @@
+"""Standard figures and the CSV summary of a study's results (``meshmark study plot RESULTS``).
+
+* ``summary.csv``: one row per (method, attack) with the number of tasks, of ok rows and mesh errors,
+  and the mean of every numeric measurement column over the ok rows (timings included);
+* ``cdr_vs_strength.png``: mean CDR against the attack level (the first numeric grid or random
+  parameter of the attack entry, or ``level = "name"``), one panel per attack, one line per method;
+* ``detection_vs_deformation.png``: detection rate against the bend angle (``bend`` /
+  ``blender_bend`` attacks), one line per method;
+* ``capacity_vs_size.png``: capacity (carrier bits) against the vertex count of the mesh, per method.
+
+A figure whose data the study does not have is not written (the list of files written is returned).
+"""
+from __future__ import annotations
+
+import csv
+import json
+import pathlib
+
+import numpy as np
+
+from .engine import VOLATILE, load_results
+
+DEFORM = ("bend", "blender_bend")
+
+
+def _rows(results):
+    return load_results(results).to_pylist()
+
+
+def summary(rows) -> list:
+    groups: dict = {}
+    for r in rows:
+        groups.setdefault((r["method"], r["attack"]), []).append(r)
+    skip = {"seed", "attempt", "attack_level", "mesh_vertices", "mesh_faces"}
+    num = [k for k, v in rows[0].items() if k not in skip
+           and any(isinstance(r.get(k), (int, float)) and r.get(k) is not None for r in rows)] if rows else []
+    out = []
+    for (m, a), rs in groups.items():
+        ok = [r for r in rs if r["status"] == "ok"]
+        d = {"method": m, "attack": a, "attack_level": rs[0]["attack_level"], "tasks": len(rs), "ok": len(ok),
+             "mesh_error": sum(r["status"] == "mesh_error" for r in rs), "error": sum(r["status"] == "error" for r in rs)}
+        for k in num:
+            vals = [float(r[k]) for r in ok if r.get(k) is not None and not isinstance(r.get(k), str)]
+            d[k] = float(np.mean(vals)) if vals else None
+        out.append(d)
+    return out
+
+
+def _attack_name(r) -> str:
+    ch = json.loads(r["attack_chain"]) if r.get("attack_chain") else []
+    return ch[0][0] if len(ch) == 1 else ("none" if not ch else "chain")
+
+
+def plot(results, out=None) -> list:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = pathlib.Path(out) if out else pathlib.Path(results) / "plots"
+    out.mkdir(parents=True, exist_ok=True)
+    rows = _rows(results)
+    written = []
+    summ = summary(rows)
+    with open(out / "summary.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(summ[0]))
+        w.writeheader()
+        w.writerows(summ)
+    written.append(out / "summary.csv")
+    ok = [r for r in rows if r["status"] == "ok"]
+    methods = list(dict.fromkeys(r["method"] for r in ok if r["method_name"] != "none"))
+
+    def mean_by(rs, key, value):
+        d: dict = {}
+        for r in rs:
+            if r.get(value) is not None and r.get(key) is not None:
+                d.setdefault(r[key], []).append(float(r[value]))
+        ks = sorted(d)
+        return ks, [float(np.mean(d[k])) for k in ks]
+
+    # CDR against strength, one panel per attack name with levels
+    by_attack: dict = {}
+    for r in ok:
+        if r.get("cdr") is not None and r.get("attack_level") is not None:
+            by_attack.setdefault(_attack_name(r), []).append(r)
+    by_attack = {k: v for k, v in by_attack.items() if k not in DEFORM}
+    if by_attack and methods:
+        n = len(by_attack)
+        fig, axes = plt.subplots(1, n, figsize=(4.2 * n, 3.6), squeeze=False)
+        for ax, (att, rs) in zip(axes[0], sorted(by_attack.items())):
+            for m in methods:
+                x, y = mean_by([r for r in rs if r["method"] == m], "attack_level", "cdr")
+                if x:
+                    ax.plot(x, y, "-o", label=m, ms=4)
+            ax.set_title(att)
+            ax.set_xlabel("attack level")
+            ax.set_ylabel("mean CDR")
+            ax.set_ylim(0.4, 1.02)
+            ax.grid(alpha=0.3)
+        axes[0][0].legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(out / "cdr_vs_strength.png", dpi=110)
+        plt.close(fig)
+        written.append(out / "cdr_vs_strength.png")
+    # detection rate against deformation
+    dr = [r for r in ok if _attack_name(r) in DEFORM and r.get("detected") is not None]
+    if dr:
+        fig, ax = plt.subplots(figsize=(5, 3.6))
+        for m in methods:
+            x, y = mean_by([r for r in dr if r["method"] == m], "attack_level", "detected")
+            if x:
+                ax.plot(x, y, "-o", label=m)
+        ax.set_xlabel("bend (degrees)")
+        ax.set_ylabel("detection rate")
+        ax.set_ylim(-0.02, 1.02)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(out / "detection_vs_deformation.png", dpi=110)
+        plt.close(fig)
+        written.append(out / "detection_vs_deformation.png")
+    # capacity against size
+    cr = {}
+    for r in ok:
+        if r.get("capacity") is not None:
+            cr[(r["method"], r["mesh"])] = (r["mesh_vertices"], r["capacity"])
+    if cr:
+        fig, ax = plt.subplots(figsize=(5.5, 4))
+        for m in methods:
+            pts = [v for (mm, _), v in cr.items() if mm == m]
+            if pts:
+                x, y = zip(*pts)
+                ax.scatter(x, y, s=10, label=m, alpha=0.7)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("vertices")
+        ax.set_ylabel("capacity (carrier bits)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(out / "capacity_vs_size.png", dpi=110)
+        plt.close(fig)
+        written.append(out / "capacity_vs_size.png")
+    return [str(p) for p in written]
+
+
+def compare_columns(table):
+    """The columns two runs must agree on (everything but timings, worker and attempt)."""
+    return [c for c in table.column_names if c not in VOLATILE]
