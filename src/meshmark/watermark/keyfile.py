@@ -140,7 +140,7 @@ FIELDS = {
     "mesh": (_type(dict), 1),
     "meshmark_version": (_type(str), None),
     "created": (_type(str), None),
-    "tag": (_type(str), 3),
+    "tag": (_type(str), None),  # required in a version-3 file (load_keyfile); to_dict() has none
 }
 # Method parameters (the ranges of meshmark.ranges); absent ones are not required here (each method
 # reads its own), unknown ones are left to the method.
@@ -338,6 +338,8 @@ def load_keyfile(path_or_keyfile, key: str | None = None) -> Keyfile:
         raise MeshError(f"{source} is larger than {MAX_BYTES >> 20} MB (not a meshmark keyfile)")
     d = parse_keyfile_text(raw, source)
     kf = Keyfile.from_dict(d, source=source)
+    if d["version"] >= 3 and "tag" not in d:
+        raise MeshError(f"{source}: field 'tag' is missing")
     if kf.key is None:
         if key is None:
             raise KeyRequired(f"{source} was written without the key (--no-store-key): give the key (--key)")
