@@ -82,7 +82,7 @@ def test_message_longer_than_capacity(elephant, tmp_path):
     V0 = _coords(elephant)
     err = _fails(bpy.ops.meshmark.embed, "can carry 77 bits", message="ACME 2024", key="k",  # thesis carrier: 44
                  keyfile=str(tmp_path / "k.json"))
-    assert "needs 88 bits" in err and "(Bins 286, Min. pair size 46)" in err and "at most 3 bytes of text fit" in err
+    assert "needs 88 bits" in err and "(Bins 286, Min. pair size 46)" in err and "at most 7 bytes of text fit" in err
     assert err.startswith("message too long for this mesh")
     _fails(bpy.ops.meshmark.embed, "at most 31 bytes", message="x" * 40, key="k", keyfile=str(tmp_path / "k.json"))
     _fails(bpy.ops.meshmark.embed, "message is empty", message="", key="k", keyfile=str(tmp_path / "k.json"))

@@ -188,7 +188,7 @@ def test_every_result_and_capacity_text_fits(addon, tmp_path, monkeypatch):
     _no_truncation(d)
     bpy.ops.meshmark.embed(message="E", key="k", keyfile=str(tmp_path / "k.json"))
     d = _draw(bpy.context)
-    assert {"Marked", "44 bits in the mesh", "Capacity not counted"} <= set(_texts(d, "label"))
+    assert {"Marked", "77 bits in the mesh", "Capacity not counted"} <= set(_texts(d, "label"))
     _no_truncation(d)
     with pytest.raises(RuntimeError):
         bpy.ops.meshmark.embed(message="a much longer text", key="k", keyfile=str(tmp_path / "k.json"))

@@ -77,12 +77,12 @@ def test_panel_in_a_blender_34_window(tmp_path):
             assert d["count"] >= 1 and d["region_width"] == 229, (s["step"], name)
             assert d["truncated"] == [], (s["step"], name, d["truncated"])  # nothing wider than its place
     labels = {k: [i[1] for i in d["items"]] for k, d in opened["panels"].items()}
-    assert {"Method", "Message", "Key", "Capacity 24 bits", "Embed", "Verify", "Check as posed"} <= set(labels["Watermark"])
+    assert {"Method", "Message", "Key", "Capacity 82 bits", "Embed", "Verify", "Check as posed"} <= set(labels["Watermark"])
     assert labels["Meshmark"].count("Keyfile") == 1 and {"Start 1", "Run study"} <= set(labels["Study"])
 
     # Embed and Verify pressed in the sidebar: the panel's values, the result in the panel
     w = steps["watermark"]
-    assert (w["embed"], w["verify"], w["stored_cdr"], w["capacity"]) == (["FINISHED"], ["FINISHED"], 1.0, 24)
+    assert (w["embed"], w["verify"], w["stored_cdr"], w["capacity"]) == (["FINISHED"], ["FINISHED"], 1.0, 82)
     assert (w["detected"], w["cdr"], w["message"], w["keyfile_written"]) == (True, 1.0, "M", True)
     assert {"Mark found", "Bits matching 100.0%", "Message: M"} <= {i[1] for i in w["panels"]["Watermark"]["items"]}
 
