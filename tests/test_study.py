@@ -125,12 +125,15 @@ def test_smoke_results_are_real(reference_run):
     rows = load_results(reference_run).to_pylist()
     assert len(rows) == load_spec(SMOKE).n_tasks == 192
     st = [r["status"] for r in rows]
-    assert st.count("error") == 0 and st.count("ok") >= 150
+    assert st.count("error") == 0 and st.count("ok") >= 140
     by = {(r["mesh"], r["method_name"], r["attack"], r["seed"]): r for r in rows}
     # no attack: the mark reads back exactly; attack-only rows: zero distortion
     for mesh in ("classic/fandisk.obj", "builtin:torus"):
         r = by[(mesh, "laplacian", "none", 0)]
-        assert r["status"] == "ok" and r["cdr"] == 1.0 and r["nc"] == 1.0 and r["message_ok"]
+        if mesh == "builtin:torus":  # 18 Laplacian carriers: a mark that could never be detected is refused
+            assert r["status"] == "mesh_error" and "can never be detected" in r["error"]
+        else:
+            assert r["status"] == "ok" and r["cdr"] == 1.0 and r["nc"] == 1.0 and r["message_ok"]
         a = by[(mesh, "none", "none", 0)]
         assert a["rmse_rel"] == 0.0 and a["nc"] is None and a["embed_rmse_rel"] is None
     # suzanne offers 2 Laplacian carriers: a recorded result, not a failure

@@ -154,7 +154,7 @@ def test_keyfile_round_trip_and_version_1(bunny, tmp_path):
     path = tmp_path / "k.json"
     save_keyfile(r.keyfile, path)
     d = json.loads(path.read_text())
-    assert (d["version"], d["weld"]) == (2, True)
+    assert (d["version"], d["weld"]) == (3, True)
     assert load_keyfile(path).weld is True and load_keyfile(path).to_dict() == r.keyfile.to_dict()
     rn = L.embed(bunny, payload="E", key="k", weld=False)
     save_keyfile(rn.keyfile, tmp_path / "n.json")
@@ -162,7 +162,7 @@ def test_keyfile_round_trip_and_version_1(bunny, tmp_path):
     assert load_keyfile(tmp_path / "n.json").weld is False
     # a version-1 keyfile (before welding existed) has no "weld" field: read as weld=False, so the
     # split mesh is read unwelded (with the vertex-count warning) exactly as version 1 did
-    d1 = {k: v for k, v in d.items() if k != "weld"}
+    d1 = {k: v for k, v in d.items() if k not in ("weld", "tag")}  # (version 1 had no tag either)
     d1["version"] = 1
     (tmp_path / "v1.json").write_text(json.dumps(d1))
     k1 = load_keyfile(tmp_path / "v1.json")

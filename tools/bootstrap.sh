@@ -40,6 +40,9 @@ if [ ! -x .venv/bin/python ]; then
 fi
 VPY="$ROOT/.venv/bin/python"
 export PIP_DISABLE_PIP_VERSION_CHECK=1
+# Every pip install below obeys tools/constraints.txt (numpy < 2 for the bpy 5.0.1 wheel), so the
+# demo and the tests share one consistent environment; `pip check` verifies it at the end.
+export PIP_CONSTRAINT="$ROOT/tools/constraints.txt"
 
 stamp=.venv/.meshmark-build-stamp
 want_tests="${MESHMARK_WITH_TESTS:-0}"
@@ -63,6 +66,13 @@ if [ "$need_build" = 1 ]; then
   echo "tests=$want_tests" > "$stamp"
 fi
 
+# An environment made before the constraints existed may hold numpy 2 (pulled by plyfile 1.1):
+# bring it back within them (a no-op when it already is).
+if ! "$VPY" -c "import numpy, sys; sys.exit(int(numpy.__version__.split('.')[0]) >= 2)" 2>/dev/null; then
+  say "bringing numpy within tools/constraints.txt (bpy 5.0.1 needs numpy < 2)"
+  "$VPY" -m pip install -q "numpy<2" "plyfile<1.1"
+fi
+
 want_blender="${MESHMARK_WITH_BLENDER:-$want_tests}"
 if [ "$want_blender" = 1 ] && ! "$VPY" -c "import bpy" 2>/dev/null; then
   say "installing the bpy wheel (Blender as a Python module; about 400 MB the first time)"
@@ -70,4 +80,7 @@ if [ "$want_blender" = 1 ] && ! "$VPY" -c "import bpy" 2>/dev/null; then
 fi
 if [ "$want_blender" = 1 ] && ! "$VPY" -c "import matplotlib" 2>/dev/null; then
   "$VPY" -m pip install -q "matplotlib>=3.7"
+fi
+if [ "$want_tests" = 1 ] || [ "$want_blender" = 1 ]; then
+  "$VPY" -m pip check >/dev/null || { "$VPY" -m pip check; say "pip check failed: the environment is inconsistent"; exit 1; }
 fi

@@ -24,7 +24,7 @@ from meshmark.watermark import METHODS, capacity as wm_capacity, embed as wm_emb
 from meshmark.watermark import load_keyfile, save_keyfile
 from meshmark.watermark.auto import longest_payload_bits
 from meshmark.watermark.coding import max_data_bits
-from meshmark.watermark.keyfile import refuse_overwrite
+from meshmark.watermark.keyfile import KeyRequired, refuse_overwrite
 from meshmark.watermark.payload import MAX_DATA_BITS, Payload
 
 from . import bridge, messages, properties, study
@@ -33,6 +33,18 @@ from . import params as _params
 # Session state kept out of the .blend: the last keyfile made by Embed (for "Save keyfile") and the
 # capacity of meshes the panel has shown.
 LAST = {"keyfile": None}
+
+
+def _load_keyfile(context, path, key=None):
+    """load_keyfile, with the panel's key (held in memory only) for a keyfile written without its key."""
+    try:
+        return load_keyfile(path, key=key)
+    except KeyRequired:
+        key = context.scene.meshmark.key
+        if not key:
+            raise MeshError(f"the keyfile '{path}' holds no key (written with Store key off): type the key in the "
+                            "panel") from None
+        return load_keyfile(path, key=key)
 CAPACITY_CACHE = {}
 
 _EXPECTED = (MeshError, bridge.BlenderInputError, OSError, ValueError)
@@ -258,7 +270,7 @@ class MESHMARK_OT_embed(_Base, bpy.types.Operator):
         try:
             t0 = time.perf_counter()
             res = wm_embed(mesh, payload=payload, key=key, method=method, progress=progress, weld=weld,
-                           params=params_mode, **params)
+                           params=params_mode, store_key=bool(context.scene.meshmark.store_key), **params)
             t_native = time.perf_counter() - t0
             # what Blender will store (float32), checked before anything is written
             D = res.V - mesh.V
@@ -301,9 +313,9 @@ class MESHMARK_OT_verify(_Base, bpy.types.Operator):
         keyfile = _abspath(self.arg(context, "keyfile"))
         if not keyfile:
             raise MeshError("no keyfile: give keyfile='/path/k.json' or choose one in the panel")
-        kf = load_keyfile(keyfile)
-        evaluated = self.arg(context, "evaluated")
         key = self.key if self.properties.is_property_set("key") and self.key else None
+        kf = _load_keyfile(context, keyfile, key)
+        evaluated = self.arg(context, "evaluated")
         progress = _Progress(context)
         try:
             t0 = time.perf_counter()
@@ -398,7 +410,7 @@ class MESHMARK_OT_deformation_study(_Base, bpy.types.Operator):
         keyfile = _abspath(self.arg(context, "keyfile"))
         if not keyfile:
             raise MeshError("no keyfile: give keyfile='/path/k.json' or choose one in the panel")
-        kf = load_keyfile(keyfile)
+        kf = _load_keyfile(context, keyfile)
         start, end, step = (self.arg(context, n) for n in ("frame_start", "frame_end", "frame_step"))
         if end < start or step < 1:
             raise MeshError(f"empty frame range {start}..{end} step {step}")
@@ -470,7 +482,7 @@ class MESHMARK_OT_save_keyfile(_Base, bpy.types.Operator):
             src = _abspath(context.scene.meshmark.keyfile)
             if not src or not os.path.isfile(src):
                 raise MeshError("no keyfile to save: embed a watermark first")
-            kf = load_keyfile(src)
+            kf = _load_keyfile(context, src)
         path = _abspath(self.filepath)
         if not path:
             raise MeshError("choose a file name for the keyfile")
@@ -497,7 +509,7 @@ class MESHMARK_OT_load_keyfile(_Base, bpy.types.Operator):
 
     def run(self, context):
         path = _abspath(self.filepath)
-        kf = load_keyfile(path)  # validates before anything is set
+        kf = _load_keyfile(context, path)  # validates (schema, tag) before anything is set
         s = context.scene.meshmark
         s.keyfile, s.method, s.key, s.weld = path, kf.method, kf.key, kf.weld
         s.param_mode = "CUSTOM"  # the keyfile's settings, shown under Advanced

@@ -235,6 +235,7 @@ class MESHMARK_PT_watermark(_Sidebar, bpy.types.Panel):
         field(col, s, "method")
         field(col, s, "message")
         field(col, s, "key")
+        col.prop(s, "store_key")
         row = layout.row()
         lines = capacity_lines(obj, s)
         col = row.column(align=True)

@@ -18,6 +18,24 @@ _ENUM_ITEMS = []  # keep the strings alive (Blender does not copy dynamic enum i
 PARAMS_MODE_ITEMS = [("auto", "Automatic", "Choose the parameters for this mesh and message (recorded in the keyfile)"),
                      ("thesis", "Thesis", "The published defaults")]
 
+# The panel's key lives only in this Python session, never in the .blend: scene.meshmark.key is a
+# property with a getter and a setter, so Blender stores no value for it in the scene (SKIP_SAVE
+# only concerns operator presets, not ID data). One entry per scene settings block, for the session.
+_KEYS: dict = {}
+
+
+def _get_key(self):
+    return _KEYS.get(self.as_pointer(), "")
+
+
+def _set_key(self, value):
+    _KEYS[self.as_pointer()] = value
+
+
+def forget_keys():
+    """Drop every key held in memory (on unregister and when another .blend is loaded)."""
+    _KEYS.clear()
+
 
 def method_items(self, context):
     _ENUM_ITEMS[:] = _params.method_items()
@@ -67,8 +85,12 @@ def _build_classes():
             "registry": StringProperty(name="Registry", default="", subtype="FILE_PATH",
                                        description="SQLite registry of issued copies (copy tracing)"),
             "copies": IntProperty(name="Copies", default=10, min=1, description="Copies to issue"),
-            "key": StringProperty(name="Key", description="Secret key (stored in the keyfile, not in the mesh)",
-                                  default="", subtype="PASSWORD"),
+            "key": StringProperty(name="Key", description="Secret key (kept in memory for this session only: "
+                                  "never saved in the .blend; stored in the keyfile unless Store key is off)",
+                                  subtype="PASSWORD", get=_get_key, set=_set_key, options={"SKIP_SAVE"}),
+            "store_key": BoolProperty(name="Store key in keyfile", default=True,
+                                      description="Keep the key in the keyfile; off: the keyfile holds no key and "
+                                                  "Verify uses the key typed in the panel"),
             "keyfile": StringProperty(name="Keyfile", description="Keyfile written by Embed and read by Verify "
                                       "(JSON; keep it outside the .blend)", default="", subtype="FILE_PATH"),
             "params": PointerProperty(type=all_params),
@@ -107,6 +129,7 @@ def register():
 
 
 def unregister():
+    forget_keys()
     if hasattr(bpy.types.Scene, "meshmark"):
         del bpy.types.Scene.meshmark
     for c in reversed(_classes):

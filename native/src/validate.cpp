@@ -1,9 +1,11 @@
 #include "meshmark/validate.h"
 #include "meshmark/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace meshmark {
 
@@ -65,7 +67,19 @@ void validate_polygons(Index n_vertices, const PolygonsView& P) {
         throw MeshError(s.str());
       }
     }
-    // Repeated vertex: faces are small, a quadratic scan is the fastest test.
+    // Repeated vertex: faces are small, a quadratic scan is the fastest test; a large polygon (a
+    // hostile file can hold one face of a million corners) is sorted instead: O(k log k).
+    if (e - b > 64) {
+      std::vector<Index> sorted(P.indices + b, P.indices + e);
+      std::sort(sorted.begin(), sorted.end());
+      const auto it = std::adjacent_find(sorted.begin(), sorted.end());
+      if (it != sorted.end()) {
+        std::ostringstream s;
+        s << "face " << f << " " << face_text(P, f) << " repeats vertex " << *it;
+        throw MeshError(s.str());
+      }
+      continue;
+    }
     for (Offset c = b; c < e; ++c)
       for (Offset d = c + 1; d < e; ++d)
         if (P.indices[c] == P.indices[d]) {

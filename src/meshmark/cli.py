@@ -2,15 +2,30 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
+import traceback
 
 import click
 
 from ._core import MeshError
 
+# Exit status of every command (implemented once, in _Group; documented in `meshmark --help`).
+EXIT_DETECTED, EXIT_NOT_DETECTED, EXIT_INPUT_ERROR, EXIT_INTERNAL_ERROR = 0, 1, 2, 3
+
+
+def _safe(text) -> str:
+    """``text`` printable as UTF-8: bytes from argv that are not UTF-8 (surrogate escapes) are shown
+    as \\xNN instead of failing to print."""
+    text = str(text)
+    try:
+        return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    except UnicodeEncodeError:
+        return text.encode("utf-8", "backslashreplace").decode("utf-8")
+
 
 def _emit(result: dict, as_json: bool, text: str) -> None:
-    click.echo(json.dumps(result, indent=2, sort_keys=False) if as_json else text)
+    click.echo(json.dumps(result, indent=2, sort_keys=False) if as_json else _safe(text))
 
 
 def _format_info(path: str, d: dict) -> str:
@@ -35,21 +50,65 @@ def _format_info(path: str, d: dict) -> str:
     return "\n".join(f"{k:<{w}}  {v}" for k, v in rows)
 
 
+def _option_name(ctx, param: str) -> str:
+    """The command-line spelling of an API parameter name (``n_robust`` -> ``--n-robust``) for the
+    command being run, found among its click options."""
+    cmd, sub = ctx.command, ctx
+    args = list(ctx.protected_args) + list(ctx.args) if hasattr(ctx, "protected_args") else list(ctx.args)
+    for a in args:  # walk down nested groups (steganalysis cho, ...)
+        nxt = cmd.get_command(ctx, a) if isinstance(cmd, click.Group) else None
+        if nxt is None:
+            break
+        cmd = nxt
+    for p in getattr(cmd, "params", []):
+        if p.name == param and getattr(p, "opts", None):
+            return max(p.opts, key=len)
+    return "--" + param.replace("_", "-")
+
+
 class _Group(click.Group):
-    """Turns MeshError (bad input) into a one-line error and exit status 2, never a traceback."""
+    """Exit status for every command, so new commands inherit it: MeshError (bad input, parameter
+    out of range) -> a one-line message and status 2; click usage errors -> 2 (click's own); any other
+    exception is a bug -> a short message and status 3, with the traceback only under ``--debug`` (or
+    MESHMARK_DEBUG=1). Commands that detect exit 0 (detected) or 1 (not detected) themselves."""
 
     def invoke(self, ctx):
+        debug = bool(ctx.params.get("debug")) or os.environ.get("MESHMARK_DEBUG") == "1"
         try:
             return super().invoke(ctx)
         except MeshError as exc:
-            click.echo(f"meshmark: error: {exc}", err=True)
-            sys.exit(2)
+            if debug:
+                traceback.print_exc()
+            param = getattr(exc, "param", None)
+            where = f"{_option_name(ctx, param)}: " if param else ""
+            click.echo(f"meshmark: error: {where}{_safe(exc)}", err=True)
+            sys.exit(EXIT_INPUT_ERROR)
+        except (click.exceptions.ClickException, click.exceptions.Exit, click.exceptions.Abort):
+            raise
+        except Exception as exc:  # a bug: never a bare traceback, never status 1 ("not detected")
+            if debug:
+                traceback.print_exc()
+            msg = _safe(exc)
+            msg = msg if len(msg) <= 300 else msg[:300] + "..."
+            click.echo(f"meshmark: internal error: {type(exc).__name__}: {msg} (this is a bug; "
+                       "'meshmark --debug ...' shows the traceback)", err=True)
+            sys.exit(EXIT_INTERNAL_ERROR)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="meshmark")
-def main():
-    """meshmark: hide and detect information in 3D triangle meshes."""
+@click.option("--debug", is_flag=True, help="Show the Python traceback of an error.")
+def main(debug):
+    """meshmark: hide and detect information in 3D triangle meshes.
+
+    \b
+    Exit status (every command):
+      0  success; extract, trace, steganalysis: a watermark / hidden data was detected
+      1  extract, trace, steganalysis: nothing detected
+      2  usage or input error: bad option, unreadable mesh or keyfile, a parameter out of
+         its range (the option is named), a keyfile that fails its check
+      3  internal error (a bug): a one-line message; --debug shows the traceback
+    """
 
 
 @main.command()
@@ -88,16 +147,16 @@ def _method_options(f):
                      help="Merge vertices at exactly equal positions before the method runs (split seams, "
                           "non-indexed glTF/STL); stored in the keyfile.")(f)
     f = click.option("--origin-iters", "origin_iters", type=int, default=None,
-                     help="radial: re-synchronisation rounds of the origin (default 0).")(f)
+                     help="radial: re-synchronisation rounds of the origin, 0..1000 (default 0).")(f)
     f = click.option("--origin-mode", "origin_mode", type=click.Choice(["axis", "vertices"]), default=None,
                      help="radial: origin on the principal axis (default) or 3-D mean of the right-most half.")(f)
     f = click.option("--center-iters", "center_iters", type=int, default=None,
-                     help="cho-*: re-synchronisation rounds of the centre (default 20; 0 with --thesis-exact).")(f)
+                     help="cho-*: re-synchronisation rounds of the centre, 0..1000 (default 20; 0 with --thesis-exact).")(f)
     f = click.option("--guard", type=float, default=None,
-                     help="cho-*: keep mapped values this far from the bin ends (default 0.005; 0 with --thesis-exact).")(f)
-    f = click.option("--delta-k", "delta_k", type=float, default=None, help="cho-*: step of the exponent k (default 0.001).")(f)
+                     help="cho-*: keep mapped values this far from the bin ends, [0, 0.25) (default 0.005; 0 with --thesis-exact).")(f)
+    f = click.option("--delta-k", "delta_k", type=float, default=None, help="cho-*: step of the exponent k, (0, 1) (default 0.001).")(f)
     f = click.option("--alpha", type=float, default=None,
-                     help="cho-*: strength factor (default 0.04 for cho-mean, 0.16 for cho-variance).")(f)
+                     help="cho-*: strength factor, (0, 0.5) mean, (0, 1/3) variance (default 0.04 for cho-mean, 0.16 for cho-variance).")(f)
     f = click.option("--thesis-exact", is_flag=True, default=False,
                      help="laplacian, cho-*: run the published algorithm to the letter (no robustness fixes).")(f)
     f = click.option("--carrier", type=click.Choice(["local", "thesis", "normal", "normal_global", "cot_local", "cot_normal"]),
@@ -106,13 +165,14 @@ def _method_options(f):
     f = click.option("--solver", type=click.Choice(["iterative", "direct"]), default=None,
                      help="laplacian: reconstruction, PCG rounds that stop when every carrier holds its margin "
                           "(default iterative) or one exact sparse solve (direct).")(f)
-    f = click.option("--eps", type=float, default=None, help="laplacian: regularisation of eq. 7.1.4 (default 1e-5).")(f)
-    f = click.option("--n-robust", "n_robust", type=int, default=None, help="laplacian: eq. 7.2.16 margin divisor (default 5).")(f)
+    f = click.option("--eps", type=float, default=None, help="laplacian: regularisation of eq. 7.1.4, (0, 1] (default 1e-5).")(f)
+    f = click.option("--n-robust", "n_robust", type=int, default=None, help="laplacian: eq. 7.2.16 margin divisor, 1..10^9 (default 5).")(f)
     f = click.option("--n-thr", "n_thr", type=int, default=None,
-                     help="laplacian: minimum elements in a valid bin pair (default 46); "
+                     help="1..10^9. laplacian: minimum elements in a valid bin pair (default 46); "
                           "radial: eq. 6.1.6 count difference (default Table 6.1 / docs/radial.md rule).")(f)
     f = click.option("--K", "K", type=int, default=None,
-                     help="Number of histogram bins (laplacian ceil(N/70), cho-* 64, radial 400).")(f)
+                     help="Number of histogram bins, 4..1048576 (laplacian ceil(N/70), cho-* 64, radial 400; cho-* and radial: "
+                          "at most the referenced vertices).")(f)
     f = click.option("--method", type=click.Choice(_METHOD_CHOICES), default="laplacian", show_default=True)(f)
     f = click.option("--params", "params_mode", type=click.Choice(["auto", "thesis"]), default="auto", show_default=True,
                      help="auto: choose the parameters for this mesh and payload (recorded in the keyfile); "
@@ -149,18 +209,32 @@ def _progress_bar(as_json: bool):
 @_method_options
 @click.option("--message", help="Text message to hide (UTF-8, at most 31 bytes).")
 @click.option("--bits", help="Raw bit string to hide, e.g. 0110.")
-@click.option("--key", required=True, help="Secret key (keep it; it is also stored in the keyfile).")
+@click.option("--key", required=True, help="Secret key (keep it; it is also stored in the keyfile unless --no-store-key).")
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Where to write the keyfile (JSON).")
 @click.option("--force", is_flag=True, default=False, help="Overwrite an existing keyfile.")
+@click.option("--key-bins", "key_bins", is_flag=True, default=False,
+              help="Move the published bin count K by a key-derived 3-12 % so another embedder's bins do not align "
+                   "with yours (the mark survives overmarking more often; docs/security.md).")
+@click.option("--store-key/--no-store-key", "store_key", default=True, show_default=True,
+              help="Keep the key in the keyfile; with --no-store-key, extract needs --key (or asks for it).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def embed(inp, out, method, message, bits, key, keyfile, force, as_json, params_mode, **method_params):
-    """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile."""
+def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_bins, as_json, params_mode,
+          **method_params):
+    """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile.
+
+    Both files are written, or neither: the folders are checked before any work, then both go to
+    temporary files that are renamed only when both are complete. An existing keyfile is replaced
+    only with --force.
+    """
     from . import read_mesh, write_mesh
+    from .atomic import check_writable, write_all
     from .watermark import METHODS, embed as wm_embed, save_keyfile
     from .watermark.payload import Payload
 
     if (message is None) == (bits is None):
         raise MeshError("give exactly one of --message TEXT or --bits 0110...")
+    check_writable(out, "marked mesh")
+    check_writable(keyfile, "keyfile")
     payload = Payload.from_text(message) if message is not None else Payload.from_bits(bits)
     from .watermark.keyfile import refuse_overwrite
     refuse_overwrite(keyfile, force, "--force")  # before any work: nothing is written if it exists
@@ -168,34 +242,49 @@ def embed(inp, out, method, message, bits, key, keyfile, force, as_json, params_
     report, bar = _progress_bar(as_json)
     try:
         res = wm_embed(mesh, payload=payload, key=key, method=method, progress=report, params=params_mode,
-                       **_params(**method_params))
+                       store_key=store_key, key_bins=key_bins, **_params(**method_params))
     finally:
         if bar is not None:
             bar.__exit__(None, None, None)
-    write_mesh(out, res.V, mesh, float32=bool(fmt["float32"]) and out.lower().endswith(".ply"))
-    save_keyfile(res.keyfile, keyfile, overwrite=force)
-    d = {"input": inp, "output": out, "keyfile": keyfile, **res.to_dict()}
+    float32 = bool(fmt["float32"]) and out.lower().endswith(".ply")
+    write_all([(out, lambda p: write_mesh(p, res.V, mesh, float32=float32)),
+               (keyfile, lambda p: save_keyfile(res.keyfile, p, overwrite=True))],  # checked above (--force)
+              what=["marked mesh", "keyfile"])
+    d = {"input": inp, "output": out, "keyfile": keyfile, "key_stored": store_key, **res.to_dict()}
     text = (f"embedded {payload.data.size} payload bits ({res.keyfile.coding['info_bits']} with the keyed check, "
             f"coded over {res.capacity} carriers) with the {method} method ({params_mode} parameters: "
-            f"{METHODS[method].describe(res.keyfile.params)}) into {out}\nkeyfile: {keyfile} (keep it private)")
+            f"{METHODS[method].describe(res.keyfile.params)}) into {out}\nkeyfile: {keyfile} (keep it private"
+            + ("" if store_key else "; it does not hold the key: extract needs --key") + ")")
     _emit(d, as_json, text)
 
 
 @main.command()
 @click.argument("inp", metavar="IN")
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Keyfile written by embed.")
-@click.option("--key", default=None, help="Use this key instead of the keyfile's.")
+@click.option("--key", default=None, help="Use this key instead of the keyfile's; needed when the keyfile holds "
+                                          "no key (asked for on a terminal).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def extract(inp, keyfile, key, as_json):
     """Extract and detect the watermark of --keyfile in IN (blind: the original is not needed).
 
-    Exit status: 0 watermark detected, 1 not detected, 2 error.
+    The keyfile is checked first (schema, then its HMAC-SHA256 tag): a changed keyfile, or a wrong
+    key for a keyfile written with --no-store-key, is an error (status 2).
+
+    Exit status: 0 watermark detected, 1 not detected, 2 usage/input error, 3 internal error.
     """
     from . import read_mesh
-    from .watermark import extract as wm_extract
+    from .watermark import extract as wm_extract, load_keyfile
+    from .watermark.keyfile import KeyRequired
 
+    try:
+        kf = load_keyfile(keyfile, key=key)
+    except KeyRequired:
+        if not sys.stdin.isatty():
+            raise
+        key = click.prompt("key", hide_input=True)
+        kf = load_keyfile(keyfile, key=key)
     mesh = read_mesh(inp)
-    res = wm_extract(mesh, keyfile=keyfile, key=key)
+    res = wm_extract(mesh, keyfile=kf, key=key)
     d = {"input": inp, **res.to_dict()}
     lines = [f"watermark {'DETECTED' if res.detected else 'not detected'} in {inp}",
              f"bits matched {res.matches}/{res.n_bits}  NC {res.nc:.3f}  CDR {res.cdr:.3f}  "
@@ -203,7 +292,7 @@ def extract(inp, keyfile, key, as_json):
              f"message: {res.message!r}" if res.message_ok else f"message not recovered ({res.reason})"]
     lines += [f"warning: {w}" for w in res.warnings]
     _emit(d, as_json, "\n".join(lines))
-    sys.exit(0 if res.detected else 1)
+    sys.exit(EXIT_DETECTED if res.detected else EXIT_NOT_DETECTED)
 
 
 @main.command()
@@ -372,7 +461,7 @@ def steganalysis():
 def steganalysis_cho(inp, K_min, K_max, eps, eps2, thesis_exact, false_reject, as_json):
     """Does IN carry a watermark of Cho et al.'s mean method? (thesis §6.4)
 
-    Exit status: 0 marked, 1 not marked, 2 error.
+    Exit status: 0 marked, 1 not marked, 2 usage/input error, 3 internal error.
     """
     from . import read_mesh
     from .steganalysis.cho import analyze

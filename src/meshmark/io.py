@@ -1,6 +1,7 @@
 """Reading and writing mesh files: OBJ, OFF, PLY (ASCII/binary, float/double) and STL.
 
-Parsing is done natively by CGAL's stream support. Vertex order is preserved; float64 values round
+OBJ, OFF and PLY are parsed natively by meshmark's own bounded readers (every count is checked
+against the bytes left in the file before anything is allocated), STL by CGAL's stream support. Vertex order is preserved; float64 values round
 trip exactly through OBJ, OFF and double PLY (17 significant digits), and float32-exactly through
 float PLY and STL.
 """
@@ -13,6 +14,14 @@ import numpy as np
 from . import _core
 from ._core import MeshError
 from .mesh import Mesh, as_mesh
+
+
+def _native_path(path) -> bytes:
+    """The path as bytes for the native code: a name that is not valid UTF-8 (a byte from argv kept
+    as a surrogate escape) is passed through unchanged instead of failing to convert."""
+    if isinstance(path, bool) or not isinstance(path, (str, bytes, os.PathLike)):
+        raise MeshError(f"a mesh path must be a string or path, got {type(path).__name__}")
+    return os.fsencode(path)
 
 
 def read_mesh(path: str | os.PathLike, *, drop_collapsed: bool = True, return_info: bool = False):
@@ -32,7 +41,7 @@ def read_mesh(path: str | os.PathLike, *, drop_collapsed: bool = True, return_in
 
     Raises MeshError with the path and what is wrong (missing, empty, truncated, malformed, ...).
     """
-    d = _core.read_mesh(os.fspath(path), drop_collapsed)
+    d = _core.read_mesh(_native_path(path), drop_collapsed)
     mesh = Mesh.from_polygons(d["V"], d["indices"], d["offsets"], validate=False)  # validated natively
     if return_info:
         keys = ("format", "binary", "float32", "n_file_faces", "n_dropped_faces")
@@ -56,5 +65,5 @@ def write_mesh(path: str | os.PathLike, V, F=None, *, binary: bool = True, float
         raise MeshError(f"precision must be 1..17 significant digits, got {precision}")
     if decimals is not None and not 0 <= decimals <= 17:
         raise MeshError(f"decimals must be 0..17, got {decimals}")
-    _core.write_mesh(os.fspath(path), mesh.V, mesh.face_indices, mesh.face_offsets, binary=binary,
+    _core.write_mesh(_native_path(path), mesh.V, mesh.face_indices, mesh.face_offsets, binary=binary,
                      float32=float32, precision=precision, decimals=-1 if decimals is None else decimals)

@@ -32,6 +32,7 @@ import numpy as np
 
 from .. import _core
 from .._core import MeshError
+from ..ranges import check_bool, check_float, check_int
 from ..mesh import Mesh, _as_vertices, as_mesh
 from . import framework
 from .laplacian import _referenced
@@ -62,25 +63,17 @@ class _Cho:
     # -- parameters -----------------------------------------------------------------------------
     def resolve(self, mesh: Mesh, params: dict) -> dict:
         p = framework.merge_params(self.name, self.defaults, params)
-        p["thesis_exact"] = bool(p["thesis_exact"])
+        p["thesis_exact"] = check_bool("thesis_exact", p["thesis_exact"])
         for k in ("guard", "center_iters"):
             if p[k] is None:
                 p[k] = 0 if p["thesis_exact"] else ROBUST[k]
             elif p["thesis_exact"] and p[k]:
                 raise MeshError(f"thesis_exact runs the paper without {k}; do not set both")
-        p["K"], p["center_iters"] = int(p["K"]), int(p["center_iters"])
-        p["alpha"], p["delta_k"], p["guard"] = float(p["alpha"]), float(p["delta_k"]), float(p["guard"])
-        if p["K"] < 4:
-            raise MeshError(f"K must be at least 4 bins, got {p['K']}")
+        p["K"], p["center_iters"] = check_int("K", p["K"]), check_int("center_iters", p["center_iters"])
         lim = 0.5 if self.kind == "mean" else 1.0 / 3.0
-        if not 0 < p["alpha"] < lim:
-            raise MeshError(f"alpha must be in (0, {lim:.3g}) for the {self.name} method, got {p['alpha']}")
-        if not 0 < p["delta_k"] < 1:
-            raise MeshError(f"delta_k must be in (0, 1), got {p['delta_k']}")
-        if not 0 <= p["guard"] < 0.25:
-            raise MeshError(f"guard must be in [0, 0.25), got {p['guard']}")
-        if p["center_iters"] < 0:
-            raise MeshError(f"center_iters must be >= 0, got {p['center_iters']}")
+        p["alpha"] = check_float("alpha", p["alpha"], 0.0, lim, low_open=True, high_open=True)
+        p["delta_k"] = check_float("delta_k", p["delta_k"], 0.0, 1.0, low_open=True, high_open=True)
+        p["guard"] = check_float("guard", p["guard"], 0.0, 0.25, high_open=True)
         n = int(_referenced(mesh).sum())
         if n < p["K"]:
             raise MeshError(f"the mesh has {n} referenced vertices but K = {p['K']} bins were asked for: "
@@ -161,12 +154,12 @@ def embed_bits(V, F=None, bits=None, method: str = "mean", K: int | None = None,
     b = np.asarray(bits).ravel()
     if b.size == 0 or not np.isin(b, (0, 1)).all():
         raise MeshError("bits must be a non-empty sequence of 0 and 1")
-    K = int(b.size if K is None else K)
+    K = check_int("K", b.size if K is None else K)
     if b.size > K:
         raise MeshError(f"{b.size} bits do not fit {K} bins (one bit per bin)")
     alpha = ALPHA[method] if alpha is None else float(alpha)
     r = _core.cho_embed(V, mask, K, list(range(b.size)), (2 * b.astype(int) - 1).tolist(), method, alpha,
-                        float(delta_k), float(k_max), float(guard), int(center_iters))
+                        float(delta_k), float(k_max), float(guard), check_int("center_iters", center_iters))
     V2 = r.pop("V")
     return V2, r
 
@@ -175,6 +168,6 @@ def extract_bits(V, F=None, n_bits: int = 64, method: str = "mean", K: int | Non
     """Blind detection as published: ``(bits (n_bits,) uint8, statistics (K,))``, bit = [stat > 1/2 or 1/3]."""
     _name(method)
     V, mask = _mask(V, F)
-    K = int(n_bits if K is None else K)
+    K = check_int("K", n_bits if K is None else K)
     stat, _, _ = _core.cho_statistics(V, mask, K, method)
     return (stat[:n_bits] > REFERENCE[method]).astype(np.uint8), stat

@@ -63,6 +63,26 @@ def merge_params(method_name: str, defaults: dict, params: dict) -> dict:
     return {**defaults, **{k: v for k, v in params.items() if v is not None}}
 
 
+def min_detectable_carriers() -> int:
+    """The fewest carriers for which a perfect read-back is a detection: P(X >= n) = 2^-n for
+    X ~ Bin(n, 1/2) must fall below DETECTION_THRESHOLD (20 carriers for 1e-6)."""
+    n = MIN_CARRIERS
+    while false_alarm_probability(n, n) >= DETECTION_THRESHOLD:
+        n += 1
+    return n
+
+
+def check_detectable(cap: int, what: str) -> None:
+    """Refuse an embedding that could never be detected: with ``cap`` carriers even every bit read
+    back correctly gives P(false alarm) = 2^-cap, which must be below the threshold."""
+    need = min_detectable_carriers()
+    if cap < need:
+        raise MeshError(f"the mesh offers only {cap} carrier bits to {what}; at least {need} are needed: a mark "
+                        f"that small can never be detected (all {cap} bits matching still has P(false alarm) = "
+                        f"{false_alarm_probability(cap, cap):.2g}, not below {DETECTION_THRESHOLD:g}). Nothing was "
+                        "written.")
+
+
 def register(method) -> None:
     METHODS[method.name] = method
 
@@ -185,7 +205,7 @@ def embed_channel(mesh: Mesh, m, p: dict, side: dict, ids, channel: np.ndarray, 
 
 
 def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress=None, weld: bool = True,
-          params="auto", **method_params) -> EmbedResult:
+          params="auto", store_key: bool = True, key_bins: bool = False, **method_params) -> EmbedResult:
     """Embed ``payload`` (text, bit string or Payload) under ``key`` with ``method``.
 
     ``params="auto"`` (default) chooses the method's parameters for this mesh and payload
@@ -198,10 +218,18 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     position (copies that were bit-identical stay bit-identical). Raises MeshError (nothing
     changed) when the mesh is invalid, offers fewer than 8 carriers, or the coded message does not
     fit (the message states the capacity in bits).
-    ``progress(fraction, text)`` is called as the work advances, if given.
+    ``progress(fraction, text)`` is called as the work advances, if given. With ``store_key=False``
+    the written keyfile leaves the key out (extraction then needs ``key=``). With ``key_bins=True``
+    (and no ``K`` given) the method's default bin count is moved by a key-derived 3-12 %
+    (:func:`.keys.key_bins`, published parameters only), so a second embedder with another key uses
+    misaligned bins and the first mark survives overmarking more often (docs/security.md §5); the K
+    used is in the keyfile.
     """
     report = progress or (lambda f, t: None)
     mesh_in = as_mesh(V, F)
+    from ..ranges import check_bool
+    store_key = check_bool("store_key", store_key)
+    key_bins = check_bool("key_bins", key_bins)
     m = _method(method)
     key = _keys.check_key(key)
     pl = Payload.coerce(payload)
@@ -209,11 +237,18 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     mesh = w.mesh if w is not None else mesh_in
     report(0.05, "finding carriers")
     from .auto import choose
+    if key_bins:
+        if method_params.get("K") is not None:
+            raise MeshError("key_bins chooses the bin count K from the key: do not give K as well")
+        p0, _, _, _ = choose(mesh, m, "thesis", method_params, pl.data.size)
+        method_params = {**method_params, "K": _keys.key_bins(key, method, int(p0["K"]))}
+        params = "thesis" if params == "auto" else params
     p, ids, side, choice = choose(mesh, m, params, method_params, pl.data.size)
     cap = int(len(ids))
     if cap < MIN_CARRIERS:
         raise MeshError(f"the mesh offers only {cap} carrier bits to the {method} method with {m.describe(p)}; "
                         f"at least {MIN_CARRIERS} are needed")
+    check_detectable(cap, f"the {method} method with {m.describe(p)}")
     need = _coding.min_carriers(pl.data.size)
     if need > cap:
         raise MeshError(f"the message needs {need} carrier bits ({pl.data.size} data + {_coding.CHECK_BITS} check "
@@ -223,10 +258,12 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     channel = coded ^ white
     carriers = np.asarray(ids)[order]  # carrier of coded bit i
     Vm, side, stats = embed_channel(mesh, m, p, side, carriers, channel, report)
+    if key_bins:
+        stats["key_bins"] = True
     report(0.95, "writing keyfile")
     kf = _make_keyfile(m, p, key, weld, pl, side, ids, mesh, mesh_in, Vm, choice,
                        {"scheme": _coding.SCHEME, "info_bits": _coding.info_bits(pl.data.size),
-                        "check_bits": _coding.CHECK_BITS, "n_coded": cap})
+                        "check_bits": _coding.CHECK_BITS, "n_coded": cap}, store_key=store_key)
     if w is not None:
         Vm = w.scatter(Vm)
         stats["n_merged"] = w.n_merged
@@ -234,9 +271,10 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     return EmbedResult(V=Vm, keyfile=kf, capacity=cap, stats=stats)
 
 
-def _make_keyfile(m, p, key, weld, pl: Payload, side, ids, mesh, mesh_in, Vm, choice, coding) -> Keyfile:
+def _make_keyfile(m, p, key, weld, pl: Payload, side, ids, mesh, mesh_in, Vm, choice, coding,
+                  store_key: bool = True) -> Keyfile:
     bits = pl.bitstring()
-    return Keyfile(method=m.name, params=p, key=key, weld=bool(weld),
+    return Keyfile(method=m.name, params=p, key=key, weld=bool(weld), store_key=store_key,
                    payload={"kind": pl.kind, "n_bits": pl.data.size, "bits": bits,
                             "sha256": hashlib.sha256(bits.encode()).hexdigest()},
                    coding=coding, side_info={**side, "carriers": [int(c) for c in ids]},
@@ -281,7 +319,9 @@ def _prepare(mesh: Mesh, kf: Keyfile):
 def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
     """Extract and detect the watermark described by ``keyfile`` (a path or Keyfile).
 
-    ``key`` overrides the keyfile's key (to test a key). The mesh may differ from the marked one
+    ``key`` overrides the keyfile's key (to test a key), and is required when the keyfile was written
+    without it (``store_key=False``); the keyfile's HMAC tag is checked first (a changed keyfile, or a
+    wrong key for a key-less keyfile, is a MeshError). The mesh may differ from the marked one
     (attacked, deformed, re-exported): extraction is blind and never needs the original mesh. If the
     keyfile says so (``weld``), coincident vertices are welded first, exactly as at embedding. The
     message is decoded only when the mark is detected.
@@ -290,7 +330,7 @@ def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
     mesh = as_mesh(V, F)
     if keyfile is None:
         raise MeshError("a keyfile is required to extract")
-    kf = load_keyfile(keyfile)
+    kf = load_keyfile(keyfile, key=key)  # schema, then the HMAC tag (with the given key if none is stored)
     _method(kf.method)
     key = _keys.check_key(kf.key if key is None else key)
     mesh, n_merged, warnings, expected = _prepare(mesh, kf)

@@ -24,7 +24,8 @@ def check_key(key) -> str:
         key = str(key)
     if not isinstance(key, str) or not key:
         raise MeshError("the key must be a non-empty string (or an integer seed)")
-    return key
+    from ..ranges import check_text
+    return check_text("key", key)
 
 
 def random_key() -> str:
@@ -46,3 +47,14 @@ def whitening(key: str, method: str, n: int) -> np.ndarray:
     """n key-dependent pseudo-random bits (0/1)."""
     raw = np.frombuffer(_stream("white", method, key, (n + 7) // 8 or 1), np.uint8)
     return np.unpackbits(raw)[:n]
+
+
+def key_bins(key: str, method: str, K: int, low: float = 0.03, high: float = 0.12) -> int:
+    """Key-dependent bin placement (issue 11, docs/security.md §5): the bin count K moved by a
+    key-derived fraction in [low, high] of K, up or down (at least one bin, at least 4 bins). Two
+    embedders with different keys then use misaligned bins, so a second embedding no longer rewrites
+    each of the first one's bins whole."""
+    raw = int.from_bytes(_stream("bins", method, key, 8), "little")
+    frac = low + (high - low) * ((raw >> 1) / float(1 << 63))
+    step = max(1, int(round(K * frac)))
+    return max(4, K + step if raw & 1 else K - step)

@@ -22,6 +22,7 @@ import numpy as np
 
 from .. import _core
 from .._core import MeshError
+from ..ranges import check_bool, check_float, check_int
 from ..mesh import Mesh, as_mesh
 from . import framework
 
@@ -106,18 +107,13 @@ class _Laplacian:
     def resolve(self, mesh: Mesh, params: dict) -> dict:
         p = framework.merge_params("laplacian", DEFAULTS, params)
         n_ref = int(_referenced(mesh).sum())
-        if p["K"] is None:
+        auto_K = p["K"] is None
+        if auto_K:
             p["K"] = int(math.ceil(n_ref / 70))  # §7.4: K = ceil(N / N_c), N_c = 70
-        p["K"], p["n_thr"], p["n_robust"] = int(p["K"]), int(p["n_thr"]), int(p["n_robust"])
-        p["eps"], p["thesis_exact"] = float(p["eps"]), bool(p["thesis_exact"])
-        if p["K"] < 4:
-            raise MeshError(f"K must be at least 4 bins, got {p['K']}" + (" (the mesh is too small for K = ceil(N/70))" if params.get("K") is None else ""))
-        if p["n_thr"] < 1:
-            raise MeshError(f"n_thr must be >= 1, got {p['n_thr']}")
-        if p["n_robust"] < 1:
-            raise MeshError(f"n_robust must be >= 1, got {p['n_robust']}")
-        if not p["eps"] > 0:
-            raise MeshError(f"eps must be > 0, got {p['eps']}")
+        p["K"] = check_int("K", p["K"], note=" (the mesh is too small for K = ceil(N/70))" if auto_K else "")
+        p["n_thr"], p["n_robust"] = check_int("n_thr", p["n_thr"]), check_int("n_robust", p["n_robust"])
+        p["eps"] = check_float("eps", p["eps"], 0.0, 1.0, low_open=True)
+        p["thesis_exact"] = check_bool("thesis_exact", p["thesis_exact"])
         if p["solver"] not in SOLVERS:
             raise MeshError(f"solver must be one of {', '.join(SOLVERS)}, got {p['solver']!r}")
         if p["carrier"] not in CARRIERS:

@@ -45,7 +45,8 @@ class Payload:
     def from_text(cls, text: str) -> "Payload":
         if not isinstance(text, str) or text == "":
             raise MeshError("the message must be a non-empty string")
-        raw = np.frombuffer(text.encode("utf-8"), np.uint8)
+        from ..ranges import check_text
+        raw = np.frombuffer(check_text("message", text).encode("utf-8"), np.uint8)
         bits = np.unpackbits(raw)
         if bits.size > MAX_DATA_BITS:
             raise MeshError(f"the message is {raw.size} bytes ({bits.size} bits); at most {MAX_DATA_BITS // 8} bytes fit a frame")

@@ -25,6 +25,7 @@ import numpy as np
 
 from .. import _core
 from .._core import MeshError
+from ..ranges import check_int
 from ..mesh import Mesh
 from . import framework
 from .cho import _mask
@@ -58,20 +59,14 @@ class _Radial:
 
     def resolve(self, mesh: Mesh, params: dict) -> dict:
         p = framework.merge_params("radial", DEFAULTS, params)
-        p["K"], p["origin_iters"] = int(p["K"]), int(p["origin_iters"])
-        if p["K"] < 4:
-            raise MeshError(f"K must be at least 4 bins, got {p['K']}")
+        p["K"], p["origin_iters"] = check_int("K", p["K"]), check_int("origin_iters", p["origin_iters"])
         if p["origin_mode"] not in ("axis", "vertices"):
             raise MeshError(f"origin_mode must be 'axis' or 'vertices', got {p['origin_mode']!r}")
         n = int(_referenced(mesh).sum())
         if n < p["K"]:
             raise MeshError(f"the mesh has {n} referenced vertices but K = {p['K']} bins were asked for: "
                             "fewer vertices than bins")
-        p["n_thr"] = default_n_thr(n, p["K"]) if p["n_thr"] is None else int(p["n_thr"])
-        if p["n_thr"] < 1:
-            raise MeshError(f"n_thr must be >= 1, got {p['n_thr']}")
-        if p["origin_iters"] < 0:
-            raise MeshError(f"origin_iters must be >= 0, got {p['origin_iters']}")
+        p["n_thr"] = default_n_thr(n, p["K"]) if p["n_thr"] is None else check_int("n_thr", p["n_thr"])
         return p
 
     def describe(self, p: dict) -> str:
@@ -142,11 +137,10 @@ def embed_bits(V, F=None, bits=None, K: int = 400, n_thr: int | None = None, ori
     if b.size == 0 or not np.isin(b, (0, 1)).all():
         raise MeshError("bits must be a non-empty sequence of 0 and 1")
     n = int(mask.sum())
-    if K < 4:
-        raise MeshError(f"K must be at least 4 bins, got {K}")
-    n_thr = default_n_thr(n, K) if n_thr is None else int(n_thr)
-    r = _core.radial_embed(V, mask, int(K), None, (2 * b.astype(int) - 1).tolist(), n_thr, origin_mode,
-                           int(origin_iters))
+    K = check_int("K", K)
+    n_thr = default_n_thr(n, K) if n_thr is None else check_int("n_thr", n_thr)
+    r = _core.radial_embed(V, mask, K, None, (2 * b.astype(int) - 1).tolist(), n_thr, origin_mode,
+                           check_int("origin_iters", origin_iters))
     V2 = r.pop("V")
     r.update(pairs=np.asarray(r["pairs"]), n_thr=n_thr)
     return V2, r
@@ -156,7 +150,8 @@ def extract_bits(V, F=None, n_bits: int = 64, K: int = 400, origin_mode: str = "
     """§6.2: origin and histogram from the mesh itself, embeddable pairs (eq. 6.2.8) in order,
     eq. 6.2.10. Returns ``(bits (n_bits,) uint8, counts (K,))`` (missing pairs read as 0)."""
     V, mask = _mask(V, F)
-    counts = _core.radial_counts(V, mask, int(K), origin_mode)[0]
+    K = check_int("K", K)
+    counts = _core.radial_counts(V, mask, K, origin_mode)[0]
     _, ca, cb = pair_counts(counts, K)
     emb = np.flatnonzero(ca + cb >= 1)[:n_bits]
     bits = np.zeros(n_bits, np.uint8)
