@@ -58,7 +58,7 @@ SCHEMA_CASES = [
     ("params.thesis_exact", "no", r"params.thesis_exact must be a bool, got 'no'"),
     ("side_info.carriers", ["1", "2"], r"side_info.carriers lists 2 carriers but coding.n_coded is"),
     ("mesh.n_vertices", -1, r"mesh.n_vertices must be in 0..2147483647, got -1"),
-    ("coding.n_coded", "30", r"coding.n_coded is missing or not an integer"),
+    ("coding.n_coded", "30", r"coding must have an integer n_coded"),
     ("weld", 1, r"field 'weld' must be a bool, got 1"),
     ("tag", KeyError, r"field 'tag' is missing"),
     ("payload", [], r"field 'payload' must be a dict"),

@@ -133,18 +133,20 @@ def test_message_longer_than_capacity_leaves_input_unchanged(bunny):
     with pytest.raises(MeshError, match=r"needs 402 carrier bits .* offers 73 .*K=498, n_thr=46.*at most 28 payload"):
         L.embed(bunny, payload="x" * 31, key="k", params="thesis")
     np.testing.assert_array_equal(bunny.V, V0)
-    r = L.embed(bunny, payload="x" * 31, key="k")  # auto: the last rung (K = ceil(N/12), n_thr = 8) offers 446
-    assert (r.capacity, r.keyfile.params["K"], r.keyfile.choice["rung"], r.keyfile.choice["rule"]) == (446, 2903, 5, 1)
+    # auto, default carrier "local": the rung K = ceil(N/18), n_thr = 12 offers 414 (thesis carrier: 446 at N/12)
+    r = L.embed(bunny, payload="x" * 31, key="k")
+    assert (r.capacity, r.keyfile.params["K"], r.keyfile.choice["rung"], r.keyfile.choice["rule"]) == (414, 1936, 4, 1)
 
 
 def test_too_few_carriers():
     cow = meshmark.read_mesh(shared_mesh("classic/cow.obj"))
     with pytest.raises(MeshError, match=r"offers only 6 carrier bits .*at least 8 are needed"):
         L.embed(cow, payload="1", key="k", params="thesis")
-    r = L.embed(cow, payload="1", key="k")  # auto: 8 + 20 bits need 42; K = ceil(N/8) = 363, n_thr = 5 offers 61
-    assert (r.capacity, r.keyfile.params["K"], r.keyfile.params["n_thr"]) == (61, 363, 5)
-    with pytest.raises(MeshError, match=r"needs 282 carrier bits .* offers 166 .*at most 90 payload bits fit"):
-        L.embed(cow, payload="x" * 21, key="k")  # the ladder's largest capacity: 166 (K = 968, n_thr = 2)
+    # auto (carrier "local"): 8 + 20 bits need 42; K = ceil(N/12) = 242, n_thr = 8 offers 46
+    r = L.embed(cow, payload="1", key="k")
+    assert (r.capacity, r.keyfile.params["K"], r.keyfile.params["n_thr"]) == (46, 242, 8)
+    with pytest.raises(MeshError, match=r"needs 282 carrier bits .* offers 188 .*at most 105 payload bits fit"):
+        L.embed(cow, payload="x" * 21, key="k")  # the ladder's largest capacity: 188 (K = 968, n_thr = 2)
     with pytest.raises(MeshError, match="K must be at least 4"):
         L.capacity(cow, K=2)
     with pytest.raises(MeshError, match="unknown parameter"):
@@ -259,8 +261,10 @@ def test_cli_embed_extract_capacity(tmp_path):
     out, kf = str(tmp_path / "m.ply"), str(tmp_path / "k.json")
     e = run("embed", src, out, "--method", "laplacian", "--bits", "1011001110", "--key", "abc", "--keyfile", kf, "--json")
     assert e.returncode == 0, e.stderr
-    d = json.loads(e.stdout)  # auto: 10 + 20 bits need 45 carriers; the next rung (N/50 bins) has 63
-    assert d["capacity"] == 63 and d["params_choice"]["mode"] == "auto" and d["params"]["K"] == 401
+    # auto: 10 + 20 bits need 45 carriers; the first rung (N/70 bins) has 77 with the default carrier
+    # "local" (thesis carrier: 44, so the next rung, N/50 bins, with 63)
+    d = json.loads(e.stdout)
+    assert d["capacity"] == 77 and d["params_choice"]["mode"] == "auto" and d["params"]["K"] == 286
     t = run("embed", src, out, "--method", "laplacian", "--bits", "101100111", "--key", "abc", "--keyfile", kf,
             "--params", "thesis", "--force", "--json")
     assert t.returncode == 0 and json.loads(t.stdout)["capacity"] == 44, t.stderr
@@ -278,11 +282,11 @@ def test_skewed_histogram_disables_the_range_search():
     """vtk_trumpet (33 parts, 36-gons): a shifted range scores higher by chance; the embedder sees it
     and records range_search = False, so the mark reads back exactly."""
     m = meshmark.read_mesh(shared_mesh("corpus/vtk_trumpet.obj"))
-    # At the thesis K with n_thr = 20 the trumpet offers 27 carriers: too few for a coded message
+    # At the thesis K and carrier with n_thr = 20 the trumpet offers 27 carriers: too few for a coded message
     # (1 + 20 check bits need 32), so the 27 carrier bits are written directly (framework.embed_channel).
     from meshmark.watermark import framework
     w = meshmark.weld_vertices(m).mesh
-    p = L.METHOD.resolve(w, {"n_thr": 20})
+    p = L.METHOD.resolve(w, {"n_thr": 20, "carrier": "thesis"})
     ids, side = L.METHOD.carriers(w, p)
     ch = np.random.default_rng(7).integers(0, 2, len(ids)).astype(np.uint8)
     V, side, _ = framework.embed_channel(w, L.METHOD, p, side, ids, ch)

@@ -125,20 +125,22 @@ def test_smoke_results_are_real(reference_run):
     rows = load_results(reference_run).to_pylist()
     assert len(rows) == load_spec(SMOKE).n_tasks == 192
     st = [r["status"] for r in rows]
-    assert st.count("error") == 0 and st.count("ok") >= 140
+    # 136 ok: the torus offers 18 (Laplacian) and 22 (Cho) carriers, too few for one bit with the 20 check
+    # bits of the keyed-check code (32 needed), and its radial mark does not take: recorded mesh errors
+    assert st.count("error") == 0 and st.count("ok") >= 136
     by = {(r["mesh"], r["method_name"], r["attack"], r["seed"]): r for r in rows}
     # no attack: the mark reads back exactly; attack-only rows: zero distortion
     for mesh in ("classic/fandisk.obj", "builtin:torus"):
         r = by[(mesh, "laplacian", "none", 0)]
-        if mesh == "builtin:torus":  # 18 Laplacian carriers: a mark that could never be detected is refused
-            assert r["status"] == "mesh_error" and "can never be detected" in r["error"]
+        if mesh == "builtin:torus":  # at most 23 Laplacian carriers: too few for one coded bit (32 needed)
+            assert r["status"] == "mesh_error" and "too few for one payload bit" in r["error"]
         else:
             assert r["status"] == "ok" and r["cdr"] == 1.0 and r["nc"] == 1.0 and r["message_ok"]
         a = by[(mesh, "none", "none", 0)]
         assert a["rmse_rel"] == 0.0 and a["nc"] is None and a["embed_rmse_rel"] is None
-    # suzanne offers 2 Laplacian carriers: a recorded result, not a failure
+    # suzanne offers 2 Laplacian carriers at the published parameters; the automatic choice finds enough
     r = by[("classic/suzanne.obj", "laplacian", "none", 0)]
-    assert r["status"] == "mesh_error" and "carrier bits" in r["error"]
+    assert r["status"] == "ok" and r["cdr"] == 1.0 and r["message_ok"]
     # the seed changes the payload and the noise; reordering keeps the distortion at zero after undo-free
     # measurement only when the vertices correspond: RMSE is null for it (faces re-indexed)
     assert by[("classic/fandisk.obj", "none", "reorder", 0)]["rmse_rel"] is None

@@ -135,7 +135,9 @@ class Worker:
                 kf = Keyfile.from_dict(hit.meta["keyfile"])
                 return framework.EmbedResult(V=hit.mesh.V, keyfile=kf, capacity=int(hit.meta["capacity"]),
                                              stats=dict(hit.meta.get("stats", {})))
-        cap = framework.capacity(mesh, method=mv.name, weld=sp.weld, **mv.params)
+        # the carriers the method's parameters offer to a payload of payload_bits bits (params="auto":
+        # the rung chosen for it, or the largest rung if it does not fit; the payload is then shortened)
+        cap = framework.capacity(mesh, method=mv.name, weld=sp.weld, n_data=sp.payload_bits, **mv.params)
         if sp.payload is not None:  # a fixed text message
             from ..watermark.payload import Payload
             payload = Payload.coerce(sp.payload)
