@@ -84,8 +84,8 @@ def test_mesh_too_small(addon, tmp_path):
     S0 = _coords(sphere)
     err = _fails(bpy.ops.meshmark.embed, "mesh too small to carry a mark: it offers only", message="x", key="k",
                  keyfile=str(tmp_path / "k.json"))
-    # Settings: Auto walks the ladder down to its last rung: 5 carriers at Bins 161, Min. pair size 2
-    assert "offers only 5 of the 8 bits" in err and "(Bins 161, Min. pair size 2)" in err and "n_thr" not in err and "K=" not in err
+    # Settings: Auto walks the ladder and reports its largest rung: 1 carrier at Bins 61, Min. pair size 5
+    assert "offers only 1 of the 8 bits" in err and "(Bins 61, Min. pair size 5)" in err and "n_thr" not in err and "K=" not in err
     _fails(bpy.ops.meshmark.embed, "Min. pair size must be", message="x", key="k", K=20, n_thr=0,
            keyfile=str(tmp_path / "k.json"))
     assert np.array_equal(_coords(cube), V0) and np.array_equal(_coords(sphere), S0)

@@ -61,12 +61,12 @@ def test_panels_draw_with_and_without_a_mesh(addon):
     rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
     d = _draw(bpy.context)
     # Settings: Auto (the default) shows the longest text the automatic choice takes (the 31-byte cap
-    # here); Custom shows the fields' capacity (thesis defaults: 44 carriers, 1 byte with the keyed check)
+    # here); Custom shows the fields' capacity (the published numbers with the carrier field, "local": 77 carriers, 3 bytes with the keyed check)
     assert ["Automatic settings", "Fits 31 bytes of text"] == [t for t in _texts(d, "label") if "utomatic" in t or "Fits" in t]
     _no_truncation(d)
     s.param_mode = "CUSTOM"
     d = _draw(bpy.context)
-    assert ["Capacity 44 bits", "Fits 1 byte of text"] == [t for t in _texts(d, "label") if "apacity" in t or "Fits" in t]
+    assert ["Capacity 77 bits", "Fits 3 bytes of text"] == [t for t in _texts(d, "label") if "apacity" in t or "Fits" in t]
     s.param_mode = "AUTO"
     bpy.ops.mesh.primitive_cube_add()
     assert "Mesh too small to" in _texts(_draw(bpy.context), "label")  # said (wrapped), not raised

@@ -84,8 +84,9 @@ def test_panel_in_a_blender_34_window(tmp_path):
 
     # Embed and Verify pressed in the sidebar: the panel's values, the result in the panel
     w = steps["watermark"]
-    # automatic settings: 48 carriers for 'M' (42 needed with the keyed check, docs/coding.md)
-    assert (w["embed"], w["verify"], w["stored_cdr"], w["capacity"]) == (["FINISHED"], ["FINISHED"], 1.0, 48)
+    # automatic settings: the first rung's 82 carriers (carrier "local") for 'M' (42 needed with the
+    # keyed check, docs/coding.md)
+    assert (w["embed"], w["verify"], w["stored_cdr"], w["capacity"]) == (["FINISHED"], ["FINISHED"], 1.0, 82)
     assert (w["detected"], w["cdr"], w["message"], w["keyfile_written"]) == (True, 1.0, "M", True)
     assert {"Mark found", "Bits matching 100.0%", "Message: M"} <= {i[1] for i in w["panels"]["Watermark"]["items"]}
 

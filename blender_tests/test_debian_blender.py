@@ -70,8 +70,8 @@ def test_embed_is_one_undo_step_in_a_window(env, tmp_path):
     assert steps["setup"]["n_vertices"] == 20482
     # embed changed nearly every coordinate of the arm (61,440 of 3 x 20,482 with the iterative
     # reconstruction; all 61,446 with solver='direct') and stored a readable mark
-    # (automatic parameters: 48 carriers for 'M', which needs 42 with the keyed check)
-    assert 61000 <= steps["embed"]["changed"] <= 61446 and steps["embed"]["capacity"] == 48 and steps["embed"]["stored_cdr"] == 1.0
+    # (automatic parameters: the first rung's 82 carriers with the carrier "local" for 'M', which needs 42 with the keyed check)
+    assert 61000 <= steps["embed"]["changed"] <= 61446 and steps["embed"]["capacity"] == 82 and steps["embed"]["stored_cdr"] == 1.0
     assert "at most 31 bytes fit" in steps["failing embed"]["error"]
     assert steps["failing embed"]["identical_to_embedded"] is True  # a failure leaves the mesh bit-identical
     assert steps["undo"]["identical_to_unmarked"] is True  # one undo: embed is one step, the failure none
