@@ -170,3 +170,24 @@ def test_cli_writes_both_or_neither(tmp_path):
     assert _cli("extract", tmp_path / "out.obj", "--keyfile", tmp_path / "k.json", "--key", "kk").returncode == 0
     r = _cli("extract", tmp_path / "out.obj", "--keyfile", tmp_path / "k.json", "--key", "nope")
     assert r.returncode == 2 and "the key is wrong" in r.stderr
+
+
+def test_untagged_keyfile_is_reported(tmp_path):
+    from conftest import shared_mesh
+    """Stripping the tag and writing version 2 (a downgrade) still reads, but the result says that the
+    keyfile could not be checked for changes."""
+    import json
+    m = meshmark.read_mesh(shared_mesh("classic/bunny.obj"))
+    r = meshmark.watermark.embed(m, payload="OK", key="k")
+    p = tmp_path / "k.json"
+    meshmark.watermark.save_keyfile(r.keyfile, p)
+    d = json.loads(p.read_text())
+    assert "tag" in d
+    x = meshmark.watermark.extract(r.V, m, keyfile=p)
+    assert x.detected and not any("integrity tag" in w for w in x.warnings)
+    del d["tag"]
+    d["version"] = 2
+    q = tmp_path / "k2.json"
+    q.write_text(json.dumps(d))
+    y = meshmark.watermark.extract(r.V, m, keyfile=q)
+    assert y.detected and any("no integrity tag" in w for w in y.warnings)

@@ -334,6 +334,9 @@ def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
     _method(kf.method)
     key = _keys.check_key(kf.key if key is None else key)
     mesh, n_merged, warnings, expected = _prepare(mesh, kf)
+    if not kf.tagged:  # a version 1-2 file, or a tag stripped and the version lowered: say so
+        warnings.append("the keyfile carries no integrity tag (an old version, or the tag was removed): "
+                        "changes to it cannot be detected")
     n = int(kf.coding["n_coded"])
     pl = Payload.from_bits(kf.payload["bits"])
     pl = Payload(kf.payload["kind"], pl.data)

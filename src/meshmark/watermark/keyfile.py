@@ -62,6 +62,7 @@ class Keyfile:
     weld: bool = False
     choice: dict = None
     store_key: bool = True  # False: the key is left out of the written keyfile (verification asks for it)
+    tagged: bool = True     # False: read from a file without an HMAC tag (version 1-2), unchecked
     meshmark_version: str = ""
     created: str = field(default_factory=lambda: datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"))
 
@@ -386,6 +387,7 @@ def load_keyfile(path_or_keyfile, key: str | None = None) -> Keyfile:
         raise MeshError(f"{source} is larger than {MAX_BYTES >> 20} MB (not a meshmark keyfile)")
     d = parse_keyfile_text(raw, source)
     kf = Keyfile.from_dict(d, source=source)
+    kf.tagged = "tag" in d
     if d["version"] >= 3 and "tag" not in d:
         raise MeshError(f"{source}: field 'tag' is missing")
     if kf.key is None:
