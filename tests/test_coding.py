@@ -186,3 +186,17 @@ def test_repetition_keyfiles_are_still_read(fandisk):
     kf = Keyfile.from_dict(__import__("json").loads(kf.to_json()))
     x = extract(V, w, keyfile=kf)
     assert x.detected and x.message == "1011" and x.cdr == 1.0
+
+
+def test_auto_falls_back_when_the_mark_does_not_take():
+    """vtk_trumpet (33 parts of 36-gons): with the default carrier "local" no rung of the ladder takes
+    a 4-byte text ("does not take"); the automatic choice then falls back to the published carrier,
+    records it, and the text reads back. Explicit parameters never fall back."""
+    m = meshmark.read_mesh(shared_mesh("corpus/vtk_trumpet.obj"))
+    r = embed(m, payload="ACME", key="k")
+    assert r.keyfile.params["carrier"] == "thesis" and r.keyfile.choice["fallback"] == {"carrier": "thesis"}
+    assert r.keyfile.choice["fallback_from"] == 2 and r.capacity >= coding.min_carriers(32)
+    x = extract(r.V, m, keyfile=r.keyfile)
+    assert x.detected and x.cdr == 1.0 and x.message == "ACME"
+    with pytest.raises(meshmark.MeshError, match="does not take"):
+        embed(m, payload="ACME", key="k", carrier="local")

@@ -114,6 +114,31 @@ def choose(mesh, m, params, method_params: dict, n_data, need: int = None):
                           "needed_carriers": need, "capacity": int(len(ids))}
 
 
+# What the automatic choice falls back to, per method, when no rung of the default carrier takes the
+# mark (only when the user did not choose the carrier): the published carrier (docs/carrier.md).
+FALLBACK_PARAMS = {"laplacian": {"carrier": "thesis"}}
+
+
+def fallbacks(mesh, m, method_params: dict, choice: dict):
+    """What to try, in turn, when the chosen rung's mark does not take on the mesh (rare; e.g. many
+    small parts of 36-gons): the later rungs that also fit the payload, then (if the user did not
+    choose it) the method's fallback carrier (:data:`FALLBACK_PARAMS`) with its own ladder. Each item is
+    as ``choose`` returns it; deterministic. Not used for ``params="thesis"`` or explicit parameters."""
+    if choice.get("mode") != "auto" or choice.get("rule") != 1:
+        return
+    need = choice.get("needed_carriers")
+    start = int(choice["rung"])
+    alt = FALLBACK_PARAMS.get(m.name, {})
+    plans = [(dict(method_params), start + 1)]
+    if alt and all(method_params.get(k) is None for k in alt):
+        plans.append(({**method_params, **alt}, 0))
+    for given, first in plans:
+        for i, p, ids, side in _evaluate(mesh, m, given):
+            if i >= first and (need is None or len(ids) >= need):
+                yield p, ids, side, {**choice, "rung": int(i), "capacity": int(len(ids)),
+                                     "fallback_from": start, **({"fallback": alt} if given.keys() - method_params.keys() else {})}
+
+
 def longest_payload_bits(mesh, m, method_params: dict) -> int:
     """The longest payload (bits) ``params="auto"`` can embed: the largest over the ladder."""
     return max((coding.max_data_bits(len(ids)) for _, _, ids, _ in _evaluate(mesh, m, dict(method_params))), default=0)

@@ -254,10 +254,22 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
         raise MeshError(f"the message needs {need} carrier bits ({pl.data.size} data + {_coding.CHECK_BITS} check "
                         f"bits at code rate 2/3) but the mesh offers {cap} with the {method} method ({m.describe(p)}); "
                         f"at most {_coding.max_data_bits(cap)} payload bits fit")
-    coded, white, order = _expected(pl, key, method, cap)
-    channel = coded ^ white
-    carriers = np.asarray(ids)[order]  # carrier of coded bit i
-    Vm, side, stats = embed_channel(mesh, m, p, side, carriers, channel, report)
+    from .auto import fallbacks
+    later = fallbacks(mesh, m, method_params, choice)
+    while True:
+        coded, white, order = _expected(pl, key, method, cap)
+        channel = coded ^ white
+        carriers = np.asarray(ids)[order]  # carrier of coded bit i
+        try:
+            Vm, side, stats = embed_channel(mesh, m, p, side, carriers, channel, report)
+            break
+        except MeshError as exc:
+            # automatic parameters: a rung whose mark does not take gives way to the next that fits
+            nxt = next(later, None) if "does not take" in str(exc) else None
+            if nxt is None:
+                raise
+            p, ids, side, choice = nxt
+            cap = int(len(ids))
     if key_bins:
         stats["key_bins"] = True
     report(0.95, "writing keyfile")
