@@ -154,3 +154,26 @@ def test_bad_kind_parameters_and_plugins_name_their_lines(tmp_path):
         and "unknown parameter 'Kk'" in m
     m = err('[study]\nplugins = ["no_such_module_xyz"]\n')
     assert "bad.toml:4: study.plugins" in m and "no_such_module_xyz" in m
+
+
+def test_plot_writes_the_figures_of_the_new_specs(tmp_path):
+    import csv
+    from meshmark.study.plot import plot
+    bunny = str(shared_mesh("classic/bunny.obj"))
+    spec = {"meshes": {"paths": [bunny], "compact": True}, "methods": [{"name": "cho-mean-bits", "label": "cm"}],
+            "attacks": [{"name": "noise", "grid": {"strength": [0.001, 0.005]}}],
+            "measurements": ["correlation", "cdr", "capacity"]}
+    run(spec, tmp_path / "a", workers=0, progress=False)
+    files = {pathlib.Path(f).name for f in plot(tmp_path / "a", tmp_path / "pa")}
+    assert {"summary.csv", "cdr_vs_strength.png", "correlation_vs_strength.png", "capacity_vs_size.png"} <= files
+    rows = {r["attack"]: r for r in load_results(tmp_path / "a").to_pylist()}
+    summ = {r["attack"]: r for r in csv.DictReader(open(tmp_path / "pa" / "summary.csv"))}
+    for att, r in rows.items():  # one seed: the summary's mean is the row's value
+        assert float(summ[att]["correlation"]) == r["correlation"]
+    # attack-only grid: the distortion figure, and the RMSE grows with the noise strength
+    run({"meshes": {"paths": ["builtin:torus"]}, "attacks": [{"name": "noise", "grid": {"strength": [0.001, 0.004]}}],
+         "measurements": ["rmse"]}, tmp_path / "b", workers=0, progress=False)
+    files = {pathlib.Path(f).name for f in plot(tmp_path / "b", tmp_path / "pb")}
+    assert "distortion_vs_strength.png" in files
+    rm = {r["attack_level"]: r["rmse_rel"] for r in load_results(tmp_path / "b").to_pylist()}
+    assert rm[0.004] == pytest.approx(4 * rm[0.001], rel=1e-9)  # the same seed: the noise scales linearly
