@@ -11,8 +11,10 @@ study has the same schema whatever its rows hold (a column a task cannot fill is
 ``ctx.original`` is the mesh as loaded, ``ctx.marked`` the marked mesh (None without a method),
 ``ctx.attacked`` the attacked mesh, ``ctx.measured`` the attacked mesh with a similarity / rotation /
 reordering undone when the attack says ``undo = true`` (else the attacked mesh), ``ctx.reference``
-the marked mesh (or the original), ``ctx.embed`` the EmbedResult and ``ctx.extract()`` the
-ExtractResult (computed once, on the attacked mesh). A measurement that must run in the worker that
+the marked mesh (or the original), ``ctx.embed`` the EmbedResult (a :class:`~meshmark.study.kinds.Marked`
+for a registered method kind, with its ``bits``) and ``ctx.extract()`` the ExtractResult (a
+:class:`~meshmark.study.kinds.Read` for a kind; computed once, on the attacked mesh), ``ctx.method``
+the MethodVariant (``name``, ``params``, ``label``) and ``ctx.seed`` the task's seed. A measurement that must run in the worker that
 loaded the module is registered at import time of a module listed in ``MEASUREMENT_MODULES``.
 """
 from __future__ import annotations
