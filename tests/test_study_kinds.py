@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from meshmark import MeshError, attacks as A
-from meshmark.metrics import correlation
+from meshmark.metrics import correlation, false_alarm_probability
 from meshmark.study import Store, embed_key, load_results, load_spec, run
 from meshmark.study.kinds import radial_capacity
 from meshmark.study.task import load_mesh
@@ -57,6 +57,8 @@ def test_cho_bits_task_equals_the_direct_api(tmp_path):
             assert r["cdr"] == np.mean(got == bits) and r["matches"] == int((got == bits).sum())
             assert r["nc"] == pytest.approx(2 * r["cdr"] - 1, abs=1e-12)
             assert r["message_ok"] == bool(np.array_equal(got, bits))
+            m_ = int((got == bits).sum())
+            assert r["p_false_alarm"] == false_alarm_probability(m_, n) and r["detected"] == (r["p_false_alarm"] < 1e-6)
     # 0.5 % noise is not free: at least one of the four marks lost bits (the figures are not trivial)
     assert min(rows[(lab, "noise", s)]["cdr"] for lab in ("cm", "cv") for s in (0, 3)) < 1.0
 

@@ -79,27 +79,22 @@ class Read:
     message_ok: bool
 
     @classmethod
-    def compare(cls, sent, got, p_threshold: float = 1e-6) -> "Read":
-        """The read-back figures of ``got`` against ``sent`` (0/1 arrays of one length)."""
-        from ..metrics import correlation, normalized_correlation
+    def compare(cls, sent, got, p_threshold: float | None = None) -> "Read":
+        """The read-back figures of ``got`` against ``sent`` (0/1 arrays of one length); detected when
+        P(false alarm) (metrics.false_alarm_probability) < p_threshold (default the framework's 1e-6)."""
+        from ..metrics import correlation, false_alarm_probability, normalized_correlation
+        from ..watermark.framework import DETECTION_THRESHOLD
+        p_threshold = DETECTION_THRESHOLD if p_threshold is None else p_threshold
         sent = np.asarray(sent).astype(np.int64).ravel()
         got = np.asarray(got).astype(np.int64).ravel()
         if sent.shape != got.shape:
             raise MeshError(f"read {got.size} bits, expected {sent.size}")
         n = int(sent.size)
         m = int((sent == got).sum())
-        p = binomial_tail(m, n)
+        p = false_alarm_probability(m, n)
         return cls(bits=got, nc=normalized_correlation(sent, got), cdr=m / n if n else 0.0,
                    correlation=correlation(sent, got), matches=m, n_bits=n, p_false_alarm=p,
                    detected=bool(p < p_threshold), message_ok=bool(m == n))
-
-
-def binomial_tail(m: int, n: int) -> float:
-    """P(X >= m), X ~ Binomial(n, 1/2): the chance of m or more matching bits by luck."""
-    if m <= 0:
-        return 1.0
-    from scipy.stats import binom
-    return float(binom.sf(m - 1, n, 0.5))
 
 
 @dataclass
