@@ -123,7 +123,7 @@ def _same(a, b):
 
 def test_smoke_results_are_real(reference_run):
     rows = load_results(reference_run).to_pylist()
-    assert len(rows) == load_spec(SMOKE).n_tasks == 192
+    assert len(rows) == load_spec(SMOKE).n_tasks == 240
     st = [r["status"] for r in rows]
     # 136 ok: the torus offers 18 (Laplacian) and 22 (Cho) carriers, too few for one bit with the 20 check
     # bits of the keyed-check code (32 needed), and its radial mark does not take: recorded mesh errors
@@ -141,6 +141,10 @@ def test_smoke_results_are_real(reference_run):
     # suzanne offers 2 Laplacian carriers at the published parameters; the automatic choice finds enough
     r = by[("classic/suzanne.obj", "laplacian", "none", 0)]
     assert r["status"] == "ok" and r["cdr"] == 1.0 and r["message_ok"]
+    # the raw-bits kind: a balanced 32-bit message, read back exactly on the fandisk with no attack
+    r = by[("classic/fandisk.obj", "cho-mean-bits", "none", 1)]
+    assert r["status"] == "ok" and r["cdr"] == 1.0 and r["correlation"] == 1.0 and r["carried"]
+    assert r["payload_bits"] == 32 and r["nc"] is not None and by[("classic/fandisk.obj", "laplacian", "none", 0)]["correlation"] is None
     # the seed changes the payload and the noise; reordering keeps the distortion at zero after undo-free
     # measurement only when the vertices correspond: RMSE is null for it (faces re-indexed)
     assert by[("classic/fandisk.obj", "none", "reorder", 0)]["rmse_rel"] is None
@@ -183,12 +187,12 @@ def test_resume_after_sigkill(reference_run, tmp_path):
         p.wait()
     before = finished_keys(out)
     n_parts = len(list((out / "results").glob("part-*.parquet")))
-    assert 0 < len(before) < 192
+    assert 0 < len(before) < 240
     S = run(SMOKE, out, workers=2, progress=False)
-    assert S.skipped == len(before) and S.ran == 192 - len(before)
+    assert S.skipped == len(before) and S.ran == 240 - len(before)
     # no finished task was run again: every key is in exactly one row over all partitions
     keys = [k for f in sorted((out / "results").glob("part-*.parquet")) for k in pq.read_table(f).column("key").to_pylist()]
-    assert len(keys) == len(set(keys)) == 192 and n_parts < len(list((out / "results").glob("part-*.parquet")))
+    assert len(keys) == len(set(keys)) == 240 and n_parts < len(list((out / "results").glob("part-*.parquet")))
     _same(reference_run, out)
 
 
@@ -242,12 +246,13 @@ def test_status_and_plot_commands(reference_run, tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
-    assert d["planned"] == 192 and d["remaining"] == 0 and d["rows"] == 192 and sum(d["by_status"].values()) == 192
+    assert d["planned"] == 240 and d["remaining"] == 0 and d["rows"] == 240 and sum(d["by_status"].values()) == 240
     r = subprocess.run([MESHMARK, "study", "plot", str(reference_run), "--out", str(tmp_path / "plots")],
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     names = sorted(pathlib.Path(p).name for p in r.stdout.split())
-    assert names == ["capacity_vs_size.png", "cdr_vs_strength.png", "detection_vs_deformation.png", "summary.csv"]
+    assert names == ["capacity_vs_size.png", "cdr_vs_strength.png", "correlation_vs_strength.png",
+                     "detection_vs_deformation.png", "summary.csv"]
     import csv
     rows = list(csv.DictReader(open(tmp_path / "plots" / "summary.csv")))
     lap_none = next(x for x in rows if x["method"] == "laplacian" and x["attack"] == "none")

@@ -10,6 +10,9 @@ skips finished keys. ``meshmark study run|status|plot`` is the command line.
 * :mod:`.task` — what a worker does with a chunk of tasks of one mesh;
 * :mod:`.engine` — planning, execution (process pool, Dask), Parquet, resume, status;
 * :mod:`.measure` — the measurement registry (:func:`register_measurement`);
+* :mod:`.kinds` — method kinds beyond the framework methods (:func:`register_method_kind`: the hook
+  another module uses to add a task kind; built in: the thesis' raw-bits uses ``cho-mean-bits``,
+  ``cho-variance-bits``, ``radial-bits``);
 * :mod:`.store` — the content-addressed store of marked meshes (:class:`Store`);
 * :mod:`.plot` — standard figures and the CSV summary;
 * :mod:`.deform` — deformation attacks (bend; Blender's bend when bpy is present).
@@ -19,6 +22,8 @@ import importlib
 _EXPORTS = {
     "Spec": "spec", "load_spec": "spec", "plan": "spec", "embed_key": "spec", "mesh_digest": "spec",
     "MEASUREMENTS": "measure", "register_measurement": "measure", "Measurement": "measure",
+    "register_method_kind": "kinds", "METHOD_KINDS": "kinds", "Marked": "kinds", "Read": "kinds",
+    "PLUGIN_MODULES": "kinds",
     "Store": "store", "StoredMesh": "store",
     "run": "engine", "status": "engine", "load_results": "engine", "Summary": "engine",
 }

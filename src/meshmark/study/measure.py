@@ -11,8 +11,10 @@ study has the same schema whatever its rows hold (a column a task cannot fill is
 ``ctx.original`` is the mesh as loaded, ``ctx.marked`` the marked mesh (None without a method),
 ``ctx.attacked`` the attacked mesh, ``ctx.measured`` the attacked mesh with a similarity / rotation /
 reordering undone when the attack says ``undo = true`` (else the attacked mesh), ``ctx.reference``
-the marked mesh (or the original), ``ctx.embed`` the EmbedResult and ``ctx.extract()`` the
-ExtractResult (computed once, on the attacked mesh). A measurement that must run in the worker that
+the marked mesh (or the original), ``ctx.embed`` the EmbedResult (a :class:`~meshmark.study.kinds.Marked`
+for a registered method kind, with its ``bits``) and ``ctx.extract()`` the ExtractResult (a
+:class:`~meshmark.study.kinds.Read` for a kind; computed once, on the attacked mesh), ``ctx.method``
+the MethodVariant (``name``, ``params``, ``label``) and ``ctx.seed`` the task's seed. A measurement that must run in the worker that
 loaded the module is registered at import time of a module listed in ``MEASUREMENT_MODULES``.
 """
 from __future__ import annotations
@@ -50,9 +52,12 @@ def register_measurement(name: str, columns: dict, needs_mark: bool = False, des
     return deco
 
 
-def load_plugins():
+def load_plugins(modules=()):
+    """Import MEASUREMENT_MODULES, kinds.PLUGIN_MODULES and ``modules`` (a spec's ``plugins``)."""
+    from .kinds import load_plugins as _kinds
     for mod in MEASUREMENT_MODULES:
         importlib.import_module(mod)
+    _kinds(modules)
 
 
 @dataclass
@@ -66,6 +71,7 @@ class Context:
     distance_seed: int = 0
     distance_samples: int | None = None
     timings: dict = field(default_factory=dict)
+    method: object = None         # the MethodVariant
     _extract: object = None
 
     @property
@@ -78,8 +84,13 @@ class Context:
         if self._extract is None:
             import time
             from ..watermark import framework
+            from .kinds import METHOD_KINDS, Marked
             t0 = time.perf_counter()
-            self._extract = framework.extract(self.attacked, keyfile=self.embed.keyfile)
+            if isinstance(self.embed, Marked):
+                kind = METHOD_KINDS[self.method.name]
+                self._extract = kind.extract(self.attacked, self.embed, kind.full(self.method.params))
+            else:
+                self._extract = framework.extract(self.attacked, keyfile=self.embed.keyfile)
             self.timings["t_extract"] = time.perf_counter() - t0
         return self._extract
 
@@ -119,7 +130,24 @@ def _message(ctx):
 @register_measurement("capacity", {"capacity": pa.int64(), "payload_bits": pa.int64()}, needs_mark=True)
 def _capacity(ctx):
     """Carrier bits the method found, and the payload bits embedded."""
-    return {"capacity": int(ctx.embed.capacity), "payload_bits": int(ctx.embed.keyfile.payload["n_bits"])}
+    e = ctx.embed
+    nb = len(e.bits) if hasattr(e, "bits") else e.keyfile.payload["n_bits"]
+    return {"capacity": int(e.capacity), "payload_bits": int(nb)}
+
+
+@register_measurement("correlation", {"correlation": pa.float64()}, needs_mark=True)
+def _correlation(ctx):
+    """C of eq. 6.3.11 (Pearson correlation of the +-1 sequences) of the embedded and read bits: for
+    the raw-bits kinds (cho-mean-bits, radial-bits, ...; null for framework methods, whose ``nc`` is
+    the normalized correlation of the coded bits)."""
+    return {"correlation": getattr(ctx.extract(), "correlation", None)}
+
+
+@register_measurement("carried", {"carried": pa.bool_()}, needs_mark=True)
+def _carried(ctx):
+    """Whether the mark reads back exactly from the unattacked marked mesh (and, for Cho, no bin
+    failed): the "can carry the mark" of Table 6.2. Registered kinds only (null for framework methods)."""
+    return {"carried": getattr(ctx.embed, "carried", None)}
 
 
 @register_measurement("rmse", {"rmse_rel": pa.float64(), "embed_rmse_rel": pa.float64()})

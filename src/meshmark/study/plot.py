@@ -4,8 +4,12 @@
   and the mean of every numeric measurement column over the ok rows (timings included);
 * ``cdr_vs_strength.png``: mean CDR against the attack level (the first numeric grid or random
   parameter of the attack entry, or ``level = "name"``), one panel per attack, one line per method;
-* ``detection_vs_deformation.png``: detection rate against the bend angle (``bend`` /
+* ``correlation_vs_strength.png``: the same for C of eq. 6.3.11 (the ``correlation`` measurement of
+  the raw-bits method kinds: thesis Figs. 6.6-6.8);
+* ``detection_vs_deformation.png``: detection rate and mean CDR against the bend angle (``bend`` /
   ``blender_bend`` attacks), one line per method;
+* ``distortion_vs_strength.png`` (attack-only studies, every method ``none``): RMSE, Hausdorff and
+  normal degradation against the attack level, one line per mesh;
 * ``capacity_vs_size.png``: capacity (carrier bits) against the vertex count of the mesh, per method.
 
 A figure whose data the study does not have is not written (the list of files written is returned).
@@ -77,47 +81,82 @@ def plot(results, out=None) -> list:
         ks = sorted(d)
         return ks, [float(np.mean(d[k])) for k in ks]
 
-    # CDR against strength, one panel per attack name with levels
-    by_attack: dict = {}
-    for r in ok:
-        if r.get("cdr") is not None and r.get("attack_level") is not None:
-            by_attack.setdefault(_attack_name(r), []).append(r)
-    by_attack = {k: v for k, v in by_attack.items() if k not in DEFORM}
-    if by_attack and methods:
+    def panels(metric, ylabel, ylim, fname, rs_all, xlabel="attack level"):
+        """mean ``metric`` against the attack level, one panel per attack name, one line per method"""
+        by_attack: dict = {}
+        for r in rs_all:
+            if r.get(metric) is not None and r.get("attack_level") is not None:
+                by_attack.setdefault(_attack_name(r), []).append(r)
+        if not by_attack or not methods:
+            return
         n = len(by_attack)
         fig, axes = plt.subplots(1, n, figsize=(4.2 * n, 3.6), squeeze=False)
         for ax, (att, rs) in zip(axes[0], sorted(by_attack.items())):
             for m in methods:
-                x, y = mean_by([r for r in rs if r["method"] == m], "attack_level", "cdr")
+                x, y = mean_by([r for r in rs if r["method"] == m], "attack_level", metric)
                 if x:
                     ax.plot(x, y, "-o", label=m, ms=4)
             ax.set_title(att)
-            ax.set_xlabel("attack level")
-            ax.set_ylabel("mean CDR")
-            ax.set_ylim(0.4, 1.02)
+            ax.set_xlabel(xlabel)
+            ax.set_ylabel(ylabel)
+            ax.set_ylim(*ylim)
             ax.grid(alpha=0.3)
         axes[0][0].legend(fontsize=7)
         fig.tight_layout()
-        fig.savefig(out / "cdr_vs_strength.png", dpi=110)
+        fig.savefig(out / fname, dpi=110)
         plt.close(fig)
-        written.append(out / "cdr_vs_strength.png")
-    # detection rate against deformation
-    dr = [r for r in ok if _attack_name(r) in DEFORM and r.get("detected") is not None]
+        written.append(out / fname)
+
+    plain = [r for r in ok if _attack_name(r) not in DEFORM]
+    deform = [r for r in ok if _attack_name(r) in DEFORM]
+    # CDR (and C of eq. 6.3.11 for the raw-bits kinds) against strength, one panel per attack name
+    panels("cdr", "mean CDR", (0.4, 1.02), "cdr_vs_strength.png", plain)
+    panels("correlation", "mean correlation C (eq. 6.3.11)", (-0.2, 1.05), "correlation_vs_strength.png", plain)
+    # detection rate and CDR against deformation
+    dr = [r for r in deform if r.get("detected") is not None]
     if dr:
-        fig, ax = plt.subplots(figsize=(5, 3.6))
-        for m in methods:
-            x, y = mean_by([r for r in dr if r["method"] == m], "attack_level", "detected")
-            if x:
-                ax.plot(x, y, "-o", label=m)
-        ax.set_xlabel("bend (degrees)")
-        ax.set_ylabel("detection rate")
-        ax.set_ylim(-0.02, 1.02)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
+        for ax, (col, lab, lim) in zip(axes, (("detected", "detection rate", (-0.02, 1.02)),
+                                              ("cdr", "mean CDR", (0.4, 1.02)))):
+            for m in methods:
+                x, y = mean_by([r for r in dr if r["method"] == m], "attack_level", col)
+                if x:
+                    ax.plot(x, y, "-o", label=m)
+            ax.set_xlabel("bend (degrees)")
+            ax.set_ylabel(lab)
+            ax.set_ylim(*lim)
+            ax.grid(alpha=0.3)
+        axes[0].legend(fontsize=7)
         fig.tight_layout()
         fig.savefig(out / "detection_vs_deformation.png", dpi=110)
         plt.close(fig)
         written.append(out / "detection_vs_deformation.png")
+    # attack-only studies (no method): the distortion of each attack against its level, per mesh
+    if not methods:
+        dist = [r for r in plain if r.get("attack_level") is not None]
+        cols = [c for c in ("rmse_rel", "hausdorff_rel", "normal_deg_mean") if any(r.get(c) is not None for r in dist)]
+        if cols:
+            meshes = list(dict.fromkeys(r["mesh"] for r in dist))
+            atts = sorted({_attack_name(r) for r in dist})
+            fig, axes = plt.subplots(len(cols), len(atts), figsize=(3.6 * len(atts), 3.0 * len(cols)), squeeze=False)
+            for i, c in enumerate(cols):
+                for j, att in enumerate(atts):
+                    ax = axes[i][j]
+                    for mesh in meshes:
+                        x, y = mean_by([r for r in dist if r["mesh"] == mesh and _attack_name(r) == att],
+                                       "attack_level", c)
+                        if x and any(v > 0 for v in y):
+                            ax.plot(x, y, "-o", ms=3, label=pathlib.Path(mesh).stem)
+                    ax.set_title(att, fontsize=9)
+                    ax.set_ylabel(c, fontsize=8)
+                    if c != "normal_deg_mean" and ax.has_data():
+                        ax.set_yscale("log")
+                    ax.grid(alpha=0.3)
+            axes[0][0].legend(fontsize=6)
+            fig.tight_layout()
+            fig.savefig(out / "distortion_vs_strength.png", dpi=100)
+            plt.close(fig)
+            written.append(out / "distortion_vs_strength.png")
     # capacity against size
     cr = {}
     for r in ok:

@@ -30,7 +30,7 @@ except ImportError:  # pragma: no cover - Python 3.10
 
 MESH_SUFFIXES = (".obj", ".off", ".ply", ".stl")
 TOP_KEYS = {"study", "meshes", "methods", "attacks", "measurements"}
-STUDY_KEYS = {"name", "seeds", "payload", "payload_bits", "key", "store", "weld", "distance_seed", "distance_samples", "chunk_size", "description"}
+STUDY_KEYS = {"name", "seeds", "payload", "payload_bits", "key", "store", "weld", "distance_seed", "distance_samples", "chunk_size", "description", "plugins"}
 MESH_KEYS = {"paths", "root", "exclude", "compact", "limit", "recursive"}
 VARIANT_KEYS = {"name", "params", "grid", "random", "draws", "label", "level", "undo", "chain"}
 CHAIN_KEYS = {"name", "params"}
@@ -162,6 +162,7 @@ class Spec:
     distance_seed: int = 0
     distance_samples: int | None = None
     chunk_size: int = 64
+    plugins: list = field(default_factory=list)   # modules imported by the driver and every worker
     raw: dict = field(default_factory=dict)
 
     @property
@@ -401,6 +402,20 @@ def _build(raw: dict, L: _Lines, base: pathlib.Path, source: str) -> Spec:
             ck.fail(("study", "key"), f"key template {study['key']!r}: {e} (only {{seed}} is known)")
         opts["key"] = study["key"]
 
+    if "plugins" in study:
+        pl = study["plugins"]
+        if not isinstance(pl, list) or not all(isinstance(x, str) and x for x in pl):
+            ck.fail(("study", "plugins"), f"plugins must be a list of module names, got {pl!r}")
+        from .kinds import load_plugins
+        try:
+            load_plugins(pl)
+        except ImportError as e:
+            ck.fail(("study", "plugins"), f"cannot import a plugin module: {e}")
+        opts["plugins"] = list(pl)
+    else:
+        from .kinds import load_plugins
+        load_plugins()
+
     meshes, compact = _meshes(ck, raw.get("meshes"), base)
     methods = _methods(ck, raw.get("methods", [{"name": "none"}]))
     attacks = _attacks(ck, raw.get("attacks", [{"name": "none"}]))
@@ -479,6 +494,7 @@ def _meshes(ck, m, base):
 
 def _methods(ck, entries):
     from ..watermark import framework
+    from .kinds import METHOD_KINDS
     if isinstance(entries, dict):
         entries = [entries]
     if not isinstance(entries, list) or not entries:
@@ -492,11 +508,19 @@ def _methods(ck, entries):
         name = e.get("name")
         if name is None:
             ck.fail(path, "a method needs a name")
-        if name != "none" and name not in framework.METHODS:
-            ck.fail(path + ("name",), f"unknown method {name!r} (known: none, {', '.join(framework.METHODS)})")
-        known = set() if name == "none" else _method_params(name)
+        kind = METHOD_KINDS.get(name)
+        if name != "none" and name not in framework.METHODS and kind is None:
+            ck.fail(path + ("name",), f"unknown method {name!r} (known: none, "
+                                      f"{', '.join(list(framework.METHODS) + list(METHOD_KINDS))})")
+        known = set() if name == "none" else set(kind.defaults) if kind is not None else _method_params(name)
         plist, varying = _expand_values(ck, e, path, known, f"the {name} method", f"method/{i}/{name}")
         for p in plist:
+            if kind is not None and kind.check is not None:
+                try:
+                    kind.check(p)
+                except MeshError as err:
+                    where = next((k for k in ("params", "grid", "random") if e.get(k)), "name")
+                    ck.fail(path + (where,), f"method {name!r} with {p}: {err}")
             label = _fmt_label(ck, path, e.get("label"), p, _auto_label(name, p, varying))
             out.append(MethodVariant(name, p, label))
     return _unique(ck, out, "methods", lambda v: v.ident())

@@ -116,7 +116,7 @@ class Worker:
     """Runs chunks against one spec (kept per process: built once, reused for every chunk)."""
 
     def __init__(self, spec, store_root: str | None = None):
-        load_plugins()
+        load_plugins(getattr(spec, "plugins", ()))
         self.spec = spec
         self.store = None
         if store_root:
@@ -127,8 +127,22 @@ class Worker:
     def embed(self, mesh: Mesh, digest: str, mv, seed: int):
         from ..watermark import framework, Keyfile
         from .spec import embed_key
+        from .kinds import METHOD_KINDS, Marked
         sp = self.spec
         ek = embed_key(digest, mv, seed, sp) if self.store is not None else None
+        kind = METHOD_KINDS.get(mv.name)
+        if kind is not None:  # a registered kind (raw bits, ...): its own embed, no keyfile
+            hit = self.store.get(ek) if ek is not None else None
+            if hit is not None:
+                m = hit.meta
+                return Marked(V=hit.mesh.V, bits=np.asarray(m["bits"], np.int64), capacity=int(m["capacity"]),
+                              carried=m.get("carried"), info=dict(m.get("info", {})))
+            r = kind.embed(mesh, kind.full(mv.params), seed, sp)
+            if ek is not None:
+                self.store.put(ek, mesh.with_vertices(r.V), bits=[int(b) for b in r.bits], capacity=int(r.capacity),
+                               carried=r.carried, info=r.info, method=mv.name, params=mv.params, seed=seed,
+                               mesh_digest=digest)
+            return r
         if ek is not None:
             hit = self.store.get(ek)
             if hit is not None:
@@ -204,7 +218,7 @@ class Worker:
                 row["n_vertices"], row["n_faces"] = attacked.n_vertices, attacked.n_faces
                 ctx = Context(original=mesh, attacked=attacked, measured=measured, marked=marked, embed=emb,
                               seed=seed, distance_seed=sp.distance_seed,
-                              distance_samples=sp.distance_samples, timings=tm)
+                              distance_samples=sp.distance_samples, timings=tm, method=mv)
                 if emb is not None:
                     ctx.extract()
                 tmz = time.perf_counter()
