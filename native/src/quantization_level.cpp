@@ -33,6 +33,16 @@ inline double linear_coefficient(const double* q, NoiseBound bound, double eta) 
   }
 }
 
+// closed form (eqs. 4.3.20, 4.3.21) for S = L sum_j s_j, then the integer boundary checked against E_lin itself
+inline double e_lin(double S, double M, int k) { return std::ldexp(S / M, -(k + 2)); }
+inline int linear_level(double S, double M, double eps) {
+  const double x = -2 - std::log2(M * eps / S);
+  int k = static_cast<int>(std::clamp(std::ceil(x), double(kLowest), double(kHighest)));
+  while (k < kHighest && e_lin(S, M, k) > eps) ++k;
+  while (k > kLowest && e_lin(S, M, k - 1) <= eps) --k;
+  return k;
+}
+
 inline double half_width(int k, double L) { return std::ldexp(L, -(k + 1)); }  // 2l = 2^-k L (§4.3.1)
 
 void check_positive(double x, const char* name) {
@@ -42,6 +52,18 @@ void check_positive(double x, const char* name) {
 }  // namespace
 
 namespace {
+// eq. 4.3.25 for one triangle (inverse heights h): the smallest k with E_appr,j(k) <= ej, exact E(theta),
+// searched from the closed form (kHighest if ej <= 0).
+inline int triangle_level(const double* h, double ej, double L, double eta) {
+  if (!(ej > 0)) return kHighest;
+  const double s = L * linear_coefficient(h, NoiseBound::Appr, eta);
+  int k = static_cast<int>(std::clamp(std::ceil(-2 - std::log2(ej / s)), double(kLowest), double(kHighest)));
+  auto e = [&](int kk) { return triangle_expectation(h, half_width(kk, L), NoiseBound::Appr, true, eta); };
+  while (k < kHighest && e(k) > ej) ++k;
+  while (k > kLowest && e(k - 1) <= ej) --k;
+  return k;
+}
+
 // Calls fn(f, q, ok) for every triangle with q[3] its inverse heights 1/h1 >= 1/h2 >= 1/h3
 // (|edge| / 2 area; 0 if not ok = zero or non-finite area). Raw pointers: this loop is the cost of a
 // level on a large mesh (three vertex gathers per triangle).
@@ -110,14 +132,9 @@ QuantizationLevel quantization_level(const Eigen::Ref<const MatrixX3dR>& V, cons
   for (Eigen::Index f = 0; f < H.inv_h.rows(); ++f)
     if (H.usable[f]) S += linear_coefficient(&H.inv_h(f, 0), bound, eta);
   S *= L;  // heights in units of L
-  // closed form (eqs. 4.3.20, 4.3.21), then the integer boundary checked against E_lin itself
-  auto e_lin = [&](int k) { return std::ldexp(S / M, -(k + 2)); };
-  const double x = -2 - std::log2(M * eps / S);
-  int k = static_cast<int>(std::clamp(std::ceil(x), double(kLowest), double(kHighest)));
-  while (k < kHighest && e_lin(k) > eps) ++k;
-  while (k > kLowest && e_lin(k - 1) <= eps) --k;
+  int k = linear_level(S, M, eps);
   out.level_linear = k;
-  out.e_linear = e_lin(k);
+  out.e_linear = e_lin(S, M, k);
   auto e_ex = [&](int kk) { return mesh_normal_expectation(H, half_width(kk, L), bound, true, eta); };
   out.e_exact = e_ex(k);
   bool exact = formula == LevelFormula::Exact;
@@ -167,17 +184,7 @@ AdaptiveLevels adaptive_levels(const Eigen::Ref<const MatrixX3dR>& V, const Eige
       ej = std::min(ej, alpha - alpha * std::exp(-d * d / (2 * sigma * sigma)) + eps0);
     }
     out.triangle_tolerance[f] = ej;
-    const double* h = &H.inv_h(f, 0);
-    if (!(ej > 0)) {
-      out.triangle_level[f] = kHighest;
-    } else {
-      const double s = L * linear_coefficient(h, NoiseBound::Appr, eta);
-      int k = static_cast<int>(std::clamp(std::ceil(-2 - std::log2(ej / s)), double(kLowest), double(kHighest)));
-      auto e = [&](int kk) { return triangle_expectation(h, half_width(kk, L), NoiseBound::Appr, true, eta); };
-      while (k < kHighest && e(k) > ej) ++k;  // eq. 4.3.25 with the exact E(theta)
-      while (k > kLowest && e(k - 1) <= ej) --k;
-      out.triangle_level[f] = k;
-    }
+    out.triangle_level[f] = triangle_level(&H.inv_h(f, 0), ej, L, eta);
     for (int c = 0; c < 3; ++c) {
       Index& vl = out.vertex_level[T(f, c)];
       vl = std::max(vl, out.triangle_level[f]);
@@ -189,6 +196,61 @@ AdaptiveLevels adaptive_levels(const Eigen::Ref<const MatrixX3dR>& V, const Eige
     else out.vertex_level[v] = std::clamp(out.vertex_level[v], 0, 32);
   }
   return out;
+}
+
+std::optional<int> quantization_level_linear(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T,
+                                             double eps, NoiseBound bound, LevelFormula formula, double eta,
+                                             double switch_tol) {
+  check_positive(eps, "tolerance");
+  check_positive(eta, "eta");
+  if (!(switch_tol >= 0)) throw MeshError("switch_tol must be >= 0");
+  if (formula == LevelFormula::Exact || (formula == LevelFormula::Auto && !(switch_tol >= 0.01))) return std::nullopt;
+  // quantization_level's first pass without storing the heights: the same sum S, in the same order
+  double S = 0, qmax = 0, qmin = std::numeric_limits<double>::infinity();
+  Eigen::Index n_usable = 0;
+  for_each_inverse_heights(V, T, [&](Eigen::Index, const double* q, bool ok) {
+    if (!ok) return;
+    ++n_usable;
+    S += linear_coefficient(q, bound, eta);
+    qmax = std::max(qmax, q[0]);  // the largest and smallest 1/h of the mesh (q[0] >= q[1] >= q[2])
+    qmin = std::min(qmin, q[2]);
+  });
+  if (n_usable == 0) throw MeshError("the mesh has no usable triangle (every triangle has zero area)");
+  const double L = (V.colwise().maxCoeff() - V.colwise().minCoeff()).maxCoeff();
+  S *= L;
+  const int k = linear_level(S, static_cast<double>(n_usable), eps);
+  // Auto: every l/h_k at level k is in the Taylor branch (r < 0.05) and far from underflow, so the
+  // linear level stands
+  const double l = half_width(k, L);
+  if (formula == LevelFormula::Auto && !(l * qmax < 0.05 && l * qmin > 1e-280)) return std::nullopt;
+  return std::clamp(k, 0, 32);
+}
+
+std::optional<VectorXi> uniform_adaptive_levels(const Eigen::Ref<const MatrixX3dR>& V,
+                                                const Eigen::Ref<const MatrixX3iR>& T, double eps0, double eta) {
+  check_positive(eps0, "tolerance");
+  check_positive(eta, "eta");
+  const double* vp = V.data();
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    for (int a = 0; a < 3; ++a)
+      if (!(std::fabs(vp[V.outerStride() * i + a]) < 0x1p400)) return std::nullopt;  // kappa could be NaN
+  const double L = (V.colwise().maxCoeff() - V.colwise().minCoeff()).maxCoeff();
+  // One pass: INT32_MIN = no triangle, INT32_MIN + 1 = only unusable triangles, else the largest level
+  constexpr int kNone = INT32_MIN, kUnusable = INT32_MIN + 1;
+  VectorXi level = VectorXi::Constant(V.rows(), kNone);
+  Eigen::Index n_usable = 0;
+  for_each_inverse_heights(V, T, [&](Eigen::Index f, const double* q, bool ok) {
+    n_usable += ok;
+    const int k = ok ? triangle_level(q, eps0, L, eta) : kUnusable;  // eps_j = eps0 (eq. 4.3.24, alpha = 0)
+    for (int c = 0; c < 3; ++c) {
+      Index& vl = level[T(f, c)];
+      vl = std::max(vl, k);
+    }
+  });
+  if (n_usable == 0) throw MeshError("the mesh has no usable triangle (every triangle has zero area)");
+  for (Eigen::Index v = 0; v < level.size(); ++v)
+    level[v] = level[v] == kNone ? 0 : level[v] == kUnusable ? 32 : std::clamp(level[v], 0, 32);
+  return level;
 }
 
 }  // namespace meshmark
