@@ -107,12 +107,12 @@ void bind_analysis(py::module_& m) {
         }, py::arg("V"), py::arg("T"), py::arg("kappa"), py::arg("eps0"), py::arg("alpha"), py::arg("mu"),
         py::arg("sigma"), py::arg("eta"));
   // level-only fast paths: None where the general function must decide (quantization_level.h)
-  m.def("quantization_level_linear", [](VRef V, TRef T, double eps, const std::string& bound,
+  m.def("quantization_level_only", [](VRef V, TRef T, double eps, const std::string& bound,
                                         const std::string& formula, double eta, double switch_tol) {
           const NoiseBound b = parse_bound(bound);
           const LevelFormula f = parse_formula(formula);
           py::gil_scoped_release release;
-          return quantization_level_linear(V, T, eps, b, f, eta, switch_tol);
+          return quantization_level_only(V, T, eps, b, f, eta, switch_tol);
         }, py::arg("V"), py::arg("T"), py::arg("eps"), py::arg("bound"), py::arg("formula"), py::arg("eta"),
         py::arg("switch_tol"));
   m.def("uniform_adaptive_levels", [](VRef V, TRef T, double eps0, double eta) {

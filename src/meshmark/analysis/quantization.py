@@ -135,7 +135,7 @@ def quantization_level(mesh, tolerance: float = 1.0, bound: str = "appr", *, eta
     eta = positive(eta, "eta")
     # one pass without the exact E_mesh where it cannot change the level (quantization_level.h); the
     # same integer as quantization_details (tests/test_stego.py::test_fast_levels_equal_general_ones)
-    lv = _core.quantization_level_linear(V, T, eps, b, f, eta, 0.1)
+    lv = _core.quantization_level_only(V, T, eps, b, f, eta, 0.1)
     if lv is not None:
         return int(lv)
     return int(quantization_details(mesh, tolerance, bound, eta=eta)["level"])
