@@ -22,7 +22,14 @@ inline std::uint64_t bits_of(double x) {
   return b;
 }
 // Per-vertex value -> fixed point integer (deterministic, the same for every vertex order).
-inline std::int64_t fix(double x, double pow2) { return std::llround(x * pow2); }  // pow2 = 2^scale: exact product
+// llround(x * pow2) (pow2 = 2^scale: exact product), inline: |y| < 2^62 here, so the truncation and
+// y - trunc(y) are exact and rounding half away from zero is one comparison.
+inline std::int64_t fix(double x, double pow2) {
+  const double y = x * pow2;
+  std::int64_t r = static_cast<std::int64_t>(y);
+  const double f = y - static_cast<double>(r);
+  return r + (f >= 0.5) - (f <= -0.5);
+}
 inline long double unfix(i128 s, int scale) { return std::ldexp(static_cast<long double>(s), -scale); }
 inline std::uint64_t mix(std::uint64_t x) {  // splitmix64 finalizer
   x += 0x9e3779b97f4a7c15ULL;
@@ -94,7 +101,7 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
   StegoOrder out;
   out.axis = q;
   out.centroid = mu + o;
-  // Sort: LSD radix sort (4 passes of 16 bits) on the order-preserving integer image of the
+  // Sort: LSD radix sort on the order-preserving integer image of the
   // projection, then the rare runs of equal projections by the rest of the key.
   std::vector<std::uint64_t> kp(static_cast<std::size_t>(n)), kt(static_cast<std::size_t>(n));
   std::vector<Index> ord(static_cast<std::size_t>(n)), ot(static_cast<std::size_t>(n));
@@ -103,15 +110,24 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
     kp[static_cast<std::size_t>(i)] = (b >> 63) ? ~b : (b | (std::uint64_t{1} << 63));
     ord[static_cast<std::size_t>(i)] = static_cast<Index>(i);
   }
-  std::vector<std::size_t> count(65537);
-  for (int pass = 0; pass < 4; ++pass) {
-    const int shift = 16 * pass;
-    std::fill(count.begin(), count.end(), 0);
-    for (std::size_t i = 0; i < kp.size(); ++i) ++count[((kp[i] >> shift) & 0xffffu) + 1];
-    if (count[((kp[0] >> shift) & 0xffffu) + 1] == kp.size()) continue;  // one digit value: nothing to do
-    for (std::size_t d = 1; d < count.size(); ++d) count[d] += count[d - 1];
+  // 6 stable passes of 11 bits (2048 buckets stay in L1), histograms of all digits in one read
+  constexpr int kBits = 11, kPasses = 6;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
+  std::vector<std::size_t> count(kPasses * kBuckets, 0);
+  for (std::size_t i = 0; i < kp.size(); ++i)
+    for (int pass = 0; pass < kPasses; ++pass) ++count[pass * kBuckets + ((kp[i] >> (kBits * pass)) & (kBuckets - 1))];
+  for (int pass = 0; pass < kPasses; ++pass) {
+    const int shift = kBits * pass;
+    std::size_t* c = count.data() + pass * kBuckets;
+    if (c[(kp[0] >> shift) & (kBuckets - 1)] == kp.size()) continue;  // one digit value: nothing to do
+    std::size_t sum = 0;
+    for (std::size_t d = 0; d < kBuckets; ++d) {
+      const std::size_t x = c[d];
+      c[d] = sum;
+      sum += x;
+    }
     for (std::size_t i = 0; i < kp.size(); ++i) {
-      const std::size_t dst = count[(kp[i] >> shift) & 0xffffu]++;
+      const std::size_t dst = c[(kp[i] >> shift) & (kBuckets - 1)]++;
       kt[dst] = kp[i];
       ot[dst] = ord[i];
     }
