@@ -170,6 +170,23 @@ def _layout(C: np.ndarray, t: np.ndarray, precision: str, fr, mesh: Mesh) -> _La
     return _Layout(C, fr, t, order, first, cap)
 
 
+def _frame(V: np.ndarray, precision: str):
+    """The frame (E, o) of stego_lsb.h and the carrier words of V in it."""
+    E, o = _core.stego_frame(V, precision)
+    fr = (int(E), o)
+    return fr, _core.stego_snap(V, precision, *fr)
+
+
+def _carrier(m: Mesh, precision: str, level_fn):
+    """Steps 1-3 on the unmarked mesh: (frame, mesh of the carrier words C, levels i, cell exponents t,
+    layout in pi_1 order)."""
+    fr, C = _frame(m.V, precision)
+    cm = _on_faces(m, C)
+    i = _levels_array(cm, level_fn(cm))
+    t = _cell_exponents(cm, i, precision, fr)
+    return fr, cm, i, t, _layout(C, t, precision, fr, m)
+
+
 def _marked_order(Vm: np.ndarray, mesh: Mesh, level_fn, precision: str, fr):
     """(t', pi_2 order, first) of a marked carrier (its LSBs are ignored)."""
     Z = _core.stego_clear_lsb(Vm, precision, *fr)
@@ -221,13 +238,7 @@ def capacity(mesh, tolerance: float = 1.0, adaptive=True, precision: str = "fixe
     m = _check_mesh(mesh)
     precision = _check_precision(precision)
     level_fn = level_function(tolerance, adaptive, levels)
-    E, o = _core.stego_frame(m.V, precision)
-    fr = (int(E), o)
-    C = _core.stego_snap(m.V, precision, *fr)
-    cm = _on_faces(m, C)
-    i = _levels_array(cm, level_fn(cm))
-    t = _cell_exponents(cm, i, precision, fr)
-    lay = _layout(C, t, precision, fr, m)
+    fr, cm, i, t, lay = _carrier(m, precision, level_fn)
     n = m.n_vertices
     return {"precision": precision, "capacity_bits": lay.capacity, "bits_per_vertex": lay.capacity / n,
             "max_message_bytes": max(0, lay.capacity // 8 - crypto.OVERHEAD),
@@ -307,13 +318,7 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
     kb = crypto.key_bytes(key)
     level_fn = level_function(tolerance, adaptive, levels)
     n = m.n_vertices
-    E, o = _core.stego_frame(m.V, precision)
-    fr = (int(E), o)
-    C = _core.stego_snap(m.V, precision, *fr)
-    cm = _on_faces(m, C)
-    i = _levels_array(cm, level_fn(cm))
-    t = _cell_exponents(cm, i, precision, fr)
-    lay = _layout(C, t, precision, fr, m)
+    fr, cm, i, t, lay = _carrier(m, precision, level_fn)
     need = 8 * (len(message) + crypto.OVERHEAD)
     if need > lay.capacity:
         raise MeshError(f"message of {len(message)} bytes needs {need} bits with its {crypto.OVERHEAD}-byte "
@@ -326,7 +331,7 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
     for attempt in range(1, _MAX_ATTEMPTS + 1):
         frame = crypto.seal(bytes(message), dkey, salt)
         stream = frame + os.urandom(nbytes - len(frame))
-        V1 = _core.stego_write_bits(C, t, precision, *fr, lay.order, lay.first, stream, lay.capacity)
+        V1 = _core.stego_write_bits(lay.C, t, precision, *fr, lay.order, lay.first, stream, lay.capacity)
         t2, order2, first2, i2 = _marked_order(V1, m, level_fn, precision, fr)
         e_sorted = (t - t2)[order2].astype(np.int64)
         groups = np.cumsum(first2, dtype=np.int64) - 1
@@ -372,9 +377,7 @@ def extract(mesh, key, tolerance: float = 1.0, adaptive=True, precision: str = "
     precision = _check_precision(precision)
     kb = crypto.key_bytes(key)
     level_fn = level_function(tolerance, adaptive, levels)
-    E, o = _core.stego_frame(m.V, precision)
-    fr = (int(E), o)
-    V = _core.stego_snap(m.V, precision, *fr)
+    fr, V = _frame(m.V, precision)
     if not np.array_equal(V, m.V):
         return ExtractResult(False, None, f"the vertices are not {precision} carrier words")
     msg, reason, _ = _extract_frame_bits(V, m, level_fn, precision, fr, kb)
