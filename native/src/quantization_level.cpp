@@ -87,7 +87,10 @@ template <class Fn>
 void for_each_inverse_heights(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T, Fn&& fn) {
   const double* vp = V.data();
   const Eigen::Index vs = V.outerStride();
+  constexpr Eigen::Index kAhead = 16;  // software prefetch of the corners a few triangles ahead
   for (Eigen::Index f = 0; f < T.rows(); ++f) {
+    if (f + kAhead < T.rows())
+      for (int c = 0; c < 3; ++c) __builtin_prefetch(vp + vs * T(f + kAhead, c));
     const double* a = vp + vs * T(f, 0);
     const double* b = vp + vs * T(f, 1);
     const double* c = vp + vs * T(f, 2);
@@ -299,6 +302,8 @@ std::optional<VectorXi> uniform_adaptive_levels(const Eigen::Ref<const MatrixX3d
   const MatrixX3iR Tb = rows_by_vertex_block(T, V.rows());
   for_each_inverse_heights(V, Tb, [&](Eigen::Index f, const double* q, bool ok) {
     n_usable += ok;
+    if (f + 16 < Tb.rows())
+      for (int c = 0; c < 3; ++c) __builtin_prefetch(level.data() + Tb(f + 16, c), 1);
     const int k = ok ? triangle_level(q, eps0, L, eta) : kUnusable;  // eps_j = eps0 (eq. 4.3.24, alpha = 0)
     for (int c = 0; c < 3; ++c) {
       Index& vl = level[Tb(f, c)];

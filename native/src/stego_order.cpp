@@ -101,38 +101,60 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
   StegoOrder out;
   out.axis = q;
   out.centroid = mu + o;
-  // Sort: LSD radix sort on the order-preserving integer image of the
-  // projection, then the rare runs of equal projections by the rest of the key.
-  std::vector<std::uint64_t> kp(static_cast<std::size_t>(n)), kt(static_cast<std::size_t>(n));
-  std::vector<Index> ord(static_cast<std::size_t>(n)), ot(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const std::uint64_t b = bits_of(proj[static_cast<std::size_t>(i)]);
-    kp[static_cast<std::size_t>(i)] = (b >> 63) ? ~b : (b | (std::uint64_t{1} << 63));
-    ord[static_cast<std::size_t>(i)] = static_cast<Index>(i);
+  // Sort by kp, the order-preserving integer image of the projection (so -0.0 sorts before +0.0),
+  // ties by vertex index (a stable sort). Done as: a stable LSD radix sort (3 passes of 11 bits, the
+  // buckets stay in L1) on k32 = floor((p - pmin) 2^32 / (pmax - pmin)), which is non-decreasing in p
+  // (each operation is monotone under rounding), then the runs of equal k32 by (kp, index).
+  const std::size_t N = static_cast<std::size_t>(n);
+  std::vector<std::uint64_t> kp(N);
+  std::vector<std::uint32_t> k32(N), kt(N);
+  std::vector<Index> ord(N), ot(N);
+  double lo = proj[0], hi = proj[0];
+  for (double p : proj) lo = std::min(lo, p), hi = std::max(hi, p);
+  double scale = 4294967295.0 / (hi - lo);
+  if (!std::isfinite(scale)) scale = 0;  // all equal (or a span too small to divide by)
+  for (std::size_t i = 0; i < N; ++i) {
+    const std::uint64_t b = bits_of(proj[i]);
+    kp[i] = (b >> 63) ? ~b : (b | (std::uint64_t{1} << 63));
+    const double x = (proj[i] - lo) * scale;
+    k32[i] = x >= 4294967295.0 ? 0xffffffffu : static_cast<std::uint32_t>(x);
+    ord[i] = static_cast<Index>(i);
   }
-  // 6 stable passes of 11 bits (2048 buckets stay in L1), histograms of all digits in one read
-  constexpr int kBits = 11, kPasses = 6;
+  constexpr int kBits = 11, kPasses = 3;
   constexpr std::size_t kBuckets = std::size_t{1} << kBits;
   std::vector<std::size_t> count(kPasses * kBuckets, 0);
-  for (std::size_t i = 0; i < kp.size(); ++i)
-    for (int pass = 0; pass < kPasses; ++pass) ++count[pass * kBuckets + ((kp[i] >> (kBits * pass)) & (kBuckets - 1))];
+  for (std::size_t i = 0; i < N; ++i)
+    for (int pass = 0; pass < kPasses; ++pass) ++count[pass * kBuckets + ((k32[i] >> (kBits * pass)) & (kBuckets - 1))];
   for (int pass = 0; pass < kPasses; ++pass) {
     const int shift = kBits * pass;
     std::size_t* c = count.data() + pass * kBuckets;
-    if (c[(kp[0] >> shift) & (kBuckets - 1)] == kp.size()) continue;  // one digit value: nothing to do
+    if (c[(k32[0] >> shift) & (kBuckets - 1)] == N) continue;  // one digit value: nothing to do
     std::size_t sum = 0;
     for (std::size_t d = 0; d < kBuckets; ++d) {
       const std::size_t x = c[d];
       c[d] = sum;
       sum += x;
     }
-    for (std::size_t i = 0; i < kp.size(); ++i) {
-      const std::size_t dst = c[(kp[i] >> shift) & (kBuckets - 1)]++;
-      kt[dst] = kp[i];
+    for (std::size_t i = 0; i < N; ++i) {
+      const std::size_t dst = c[(k32[i] >> shift) & (kBuckets - 1)]++;
+      kt[dst] = k32[i];
       ot[dst] = ord[i];
     }
-    kp.swap(kt);
+    k32.swap(kt);
     ord.swap(ot);
+  }
+  for (std::size_t k = 0; k < N;) {
+    std::size_t e = k + 1;
+    while (e < N && k32[e] == k32[k]) ++e;
+    if (e - k > 1)
+      std::sort(ord.begin() + static_cast<std::ptrdiff_t>(k), ord.begin() + static_cast<std::ptrdiff_t>(e),
+                [&](Index a, Index b) { return kp[a] != kp[b] ? kp[a] < kp[b] : a < b; });
+    k = e;
+  }
+  {  // kp in sorted order, for the runs below
+    std::vector<std::uint64_t> ks(N);
+    for (std::size_t j = 0; j < N; ++j) ks[j] = kp[static_cast<std::size_t>(ord[j])];
+    kp.swap(ks);
   }
   // Runs of equal projections: sort by (x, y, z, t); only vertices still tied after that need the
   // neighbourhood hash (order-free wrapping sums over their faces), computed for them alone.
