@@ -1,5 +1,6 @@
 #include "meshmark/quantization_level.h"
 #include "meshmark/error.h"
+#include "meshmark/huge_pages.h"
 #include "meshmark/normal_angle_expectation.h"
 
 #include <algorithm>
@@ -126,6 +127,7 @@ MatrixX3iR rows_by_vertex_block(const Eigen::Ref<const MatrixX3iR>& T, Eigen::In
   }
   for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
   MatrixX3iR out(T.rows(), 3);
+  advise_huge_pages(out.data(), static_cast<std::size_t>(T.rows()) * 3 * sizeof(Index));
   for (Eigen::Index f = 0; f < T.rows(); ++f) out.row(start[static_cast<std::size_t>(T(f, 0) >> kShift)]++) = T.row(f);
   return out;
 }

@@ -1,6 +1,7 @@
 // pi_1 / pi_2 of thesis §4.3.2: projection order on the first principal axis, permutation invariant.
 #include "meshmark/stego_order.h"
 #include "meshmark/error.h"
+#include "meshmark/huge_pages.h"
 #include "meshmark/pca.h"
 
 #include <Eigen/Eigenvalues>
@@ -31,6 +32,15 @@ inline std::int64_t fix(double x, double pow2) {
   return r + (f >= 0.5) - (f <= -0.5);
 }
 inline long double unfix(i128 s, int scale) { return std::ldexp(static_cast<long double>(s), -scale); }
+// n zero-initialised elements, huge pages advised before the first touch (huge_pages.h)
+template <class T>
+std::vector<T> big_vector(std::size_t n) {
+  std::vector<T> v;
+  v.reserve(n);
+  advise_huge_pages(v.data(), n * sizeof(T));
+  v.resize(n);
+  return v;
+}
 inline std::uint64_t mix(std::uint64_t x) {  // splitmix64 finalizer
   x += 0x9e3779b97f4a7c15ULL;
   x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
@@ -42,8 +52,10 @@ inline std::uint64_t mix(std::uint64_t x) {  // splitmix64 finalizer
 StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<const VectorXi>& t, int E,
                        const Eigen::Vector3d& o, const Polygons& P) {
   // Relative to the frame origin (exact: Q - o is on the same grid and smaller than 2^E).
-  MatrixX3dR Q = Q0.rowwise() - o.transpose();
-  const Eigen::Index n = Q.rows();
+  const Eigen::Index n = Q0.rows();
+  MatrixX3dR Q(n, 3);
+  advise_huge_pages(Q.data(), static_cast<std::size_t>(n) * 3 * sizeof(double));
+  Q = Q0.rowwise() - o.transpose();
   if (n == 0) throw MeshError("empty mesh: no vertices to order");
   if (t.size() != n) throw MeshError("t must have one cell exponent per vertex");
   if (E < -300 || E > 300) throw MeshError("coordinates out of the range of the stego orderings (|x| ~ 2^" + std::to_string(E) + ")");
@@ -81,7 +93,7 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
   const double lambda = std::max(0.0, es.eigenvalues()[2]);
   // Projections and the sign rule of meshmark::pca (third moment; exact fixed-point sum of p^3,
   // |p| <= sqrt(3) 2^(E+1) < 2^(E+2), |p^3| < 2^(3E+6)).
-  std::vector<double> proj(static_cast<std::size_t>(n));
+  std::vector<double> proj = big_vector<double>(static_cast<std::size_t>(n));
   const int sc3 = 56 - 3 * E;
   const double p3 = std::ldexp(1.0, sc3);
   i128 m3s = 0;
@@ -106,9 +118,9 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
   // buckets stay in L1) on k32 = floor((p - pmin) 2^32 / (pmax - pmin)), which is non-decreasing in p
   // (each operation is monotone under rounding), then the runs of equal k32 by (kp, index).
   const std::size_t N = static_cast<std::size_t>(n);
-  std::vector<std::uint64_t> kp(N);
-  std::vector<std::uint32_t> k32(N), kt(N);
-  std::vector<Index> ord(N), ot(N);
+  std::vector<std::uint64_t> kp = big_vector<std::uint64_t>(N);
+  std::vector<std::uint32_t> k32 = big_vector<std::uint32_t>(N), kt = big_vector<std::uint32_t>(N);
+  std::vector<Index> ord = big_vector<Index>(N), ot = big_vector<Index>(N);
   double lo = proj[0], hi = proj[0];
   for (double p : proj) lo = std::min(lo, p), hi = std::max(hi, p);
   double scale = 4294967295.0 / (hi - lo);
@@ -152,7 +164,7 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
     k = e;
   }
   {  // kp in sorted order, for the runs below
-    std::vector<std::uint64_t> ks(N);
+    std::vector<std::uint64_t> ks = big_vector<std::uint64_t>(N);
     for (std::size_t j = 0; j < N; ++j) ks[j] = kp[static_cast<std::size_t>(ord[j])];
     kp.swap(ks);
   }
