@@ -23,34 +23,17 @@ import argparse
 import math
 import pathlib
 import sys
-import time
 
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from _common import SHARED, big_bunny, midpoint_subdivide  # noqa: E402
+from _common import SHARED, big_bunny  # noqa: E402
+from _common import best_of_clocks as best_of  # noqa: E402  (wall, CPU, result)
+from _common import big_elephant as _big_elephant  # noqa: E402
 
 import meshmark  # noqa: E402
 from meshmark import _core  # noqa: E402
 from meshmark import analysis as A  # noqa: E402
-
-
-def best_of(fn, repeat: int = 3):
-    """(best wall time, best CPU time of this process, last result)."""
-    wall, cpu, out = float("inf"), float("inf"), None
-    for _ in range(repeat):
-        t, c = time.perf_counter(), time.process_time()
-        out = fn()
-        wall, cpu = min(wall, time.perf_counter() - t), min(cpu, time.process_time() - c)
-    return wall, cpu, out
-
-
-def big_elephant(min_faces=2_000_000):
-    m = meshmark.read_mesh(SHARED / "classic" / "elephant.off")
-    V, F = m.V, m.F
-    while len(F) < min_faces:
-        V, F = midpoint_subdivide(V, F)
-    return meshmark.Mesh(V, F)
 
 
 def report(name, mm, ref, target):
@@ -190,7 +173,7 @@ def main():
     keep = bunny.referenced().astype(bool)
     new = np.cumsum(keep) - 1
     bunny = meshmark.Mesh(bunny.V[keep], new[bunny.F])  # the numpy versions ignore unreferenced vertices
-    bigs = [("bunny", bunny)] if args.small else [("elephant x64", big_elephant()), ("bunny x64", big_bunny(2_000_000))]
+    bigs = [("bunny", bunny)] if args.small else [("elephant x64", _big_elephant(0, 2_000_000)), ("bunny x64", big_bunny(2_000_000))]
     for name, big in bigs:
         V, F = big.V, np.ascontiguousarray(big.F, np.int32)
         print(f"level: {name}, {len(F)} triangles")

@@ -216,3 +216,30 @@ def test_fixed32_frame_survives_marking():
             E2, o2 = _core.stego_frame(W, "fixed32")
             assert E2 == E and np.array_equal(o2, o)
         assert np.all(np.abs(M - C) < 2.0 ** (E - 2))
+
+
+@pytest.mark.parametrize("name", CLASSIC)
+def test_fast_levels_equal_general_ones(name):
+    """The level fast paths stego uses (analysis.adaptive_levels with alpha = 0 without the curvature,
+    analysis.quantization_level in vertex-block order with rounding margins) give exactly the levels of
+    the general functions (adaptive_details, quantization_details) at 0.1, 1 and 10 deg, and they are
+    the paths actually taken (the native fast functions do not defer)."""
+    import math
+    from meshmark import analysis
+    from meshmark.analysis import quantization as Q
+    mesh = meshmark.read_mesh(shared_mesh(f"classic/{name}"))
+    _, V, T = Q.mesh_arrays(mesh)
+    for tol in (0.1, 1.0, 10.0):
+        general = Q.adaptive_details(mesh, tol, alpha=0.0)["levels"]
+        fast = analysis.adaptive_levels(mesh, tol, alpha=0.0)
+        assert fast.dtype == general.dtype and np.array_equal(fast, general)
+        native = _core.uniform_adaptive_levels(V, T, math.radians(tol), Q.ETA)
+        assert native is not None and np.array_equal(native, general)
+        for bound in Q.BOUNDS:
+            level = int(Q.quantization_details(mesh, tol, bound)["level"])
+            assert analysis.quantization_level(mesh, tol, bound) == level
+            only = _core.quantization_level_only(V, T, math.radians(tol), *Q._bound(bound), Q.ETA, 0.1)
+            assert only == level, (tol, bound)
+        # lsb's level function is the fast one
+        assert np.array_equal(lsb.level_function(tol, True)(mesh), general)
+        assert lsb.level_function(tol, False)(mesh) == int(Q.quantization_details(mesh, tol)["level"])

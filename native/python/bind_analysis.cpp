@@ -18,9 +18,8 @@ namespace py = pybind11;
 namespace meshmark::python {
 
 namespace {
-using VRef = Eigen::Ref<const MatrixX3dR>;
-using TRef = Eigen::Ref<const MatrixX3iR>;
-using Release = py::call_guard<py::gil_scoped_release>;
+using namespace arrays;
+using namespace pybind11::literals;
 
 NoiseBound parse_bound(const std::string& b) {
   if (b == "min") return NoiseBound::Min;
@@ -82,17 +81,10 @@ void bind_analysis(py::module_& m) {
             py::gil_scoped_release release;
             q = quantization_level(V, T, eps, b, f, eta, switch_tol);
           }
-          py::dict d;
-          d["level"] = q.level;
-          d["level_unclamped"] = q.level_unclamped;
-          d["level_linear"] = q.level_linear;
-          d["used_exact"] = q.used_exact;
-          d["e_linear"] = q.e_linear;
-          d["e_exact"] = q.e_exact;
-          d["e_level"] = q.e_level;
-          d["cube"] = q.cube;
-          d["n_triangles"] = q.n_triangles;
-          return d;
+          return py::dict("level"_a = q.level, "level_unclamped"_a = q.level_unclamped,
+                          "level_linear"_a = q.level_linear, "used_exact"_a = q.used_exact, "e_linear"_a = q.e_linear,
+                          "e_exact"_a = q.e_exact, "e_level"_a = q.e_level, "cube"_a = q.cube,
+                          "n_triangles"_a = q.n_triangles);
         }, py::arg("V"), py::arg("T"), py::arg("eps"), py::arg("bound"), py::arg("formula"), py::arg("eta"),
         py::arg("switch_tol"));
   m.def("adaptive_levels", [](VRef V, TRef T, const Eigen::Ref<const Eigen::VectorXd>& kappa, double eps0,
@@ -106,6 +98,19 @@ void bind_analysis(py::module_& m) {
                                 std::move(a.triangle_tolerance));
         }, py::arg("V"), py::arg("T"), py::arg("kappa"), py::arg("eps0"), py::arg("alpha"), py::arg("mu"),
         py::arg("sigma"), py::arg("eta"));
+  // level-only fast paths: None where the general function must decide (quantization_level.h)
+  m.def("quantization_level_only", [](VRef V, TRef T, double eps, const std::string& bound,
+                                        const std::string& formula, double eta, double switch_tol) {
+          const NoiseBound b = parse_bound(bound);
+          const LevelFormula f = parse_formula(formula);
+          py::gil_scoped_release release;
+          return quantization_level_only(V, T, eps, b, f, eta, switch_tol);
+        }, py::arg("V"), py::arg("T"), py::arg("eps"), py::arg("bound"), py::arg("formula"), py::arg("eta"),
+        py::arg("switch_tol"));
+  m.def("uniform_adaptive_levels", [](VRef V, TRef T, double eps0, double eta) {
+          py::gil_scoped_release release;
+          return uniform_adaptive_levels(V, T, eps0, eta);
+        }, py::arg("V"), py::arg("T"), py::arg("eps0"), py::arg("eta"));
   m.def("gaussian_curvature", [](VRef V, TRef T) {
           GaussianCurvature g;
           {

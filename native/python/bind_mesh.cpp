@@ -25,10 +25,8 @@ namespace py = pybind11;
 namespace meshmark::python {
 
 namespace {
-using VRef = Eigen::Ref<const MatrixX3dR>;
-using TRef = Eigen::Ref<const MatrixX3iR>;
+using namespace arrays;  // VRef, TRef, Release (bindings.h)
 using ERef = Eigen::Ref<const MatrixX2iR>;
-using Release = py::call_guard<py::gil_scoped_release>;
 
 }  // namespace
 

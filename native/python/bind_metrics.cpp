@@ -15,9 +15,7 @@ namespace py = pybind11;
 namespace meshmark::python {
 
 namespace {
-using VRef = Eigen::Ref<const MatrixX3dR>;
-using TRef = Eigen::Ref<const MatrixX3iR>;
-using Release = py::call_guard<py::gil_scoped_release>;
+using namespace arrays;  // VRef, TRef, Release (bindings.h)
 
 py::dict as_dict(const OneSidedDistance& d) {
   py::dict r;

@@ -15,9 +15,8 @@ namespace py = pybind11;
 namespace meshmark::python {
 
 namespace {
-using VRef = Eigen::Ref<const MatrixX3dR>;
-using IRef = Eigen::Ref<const VectorXi>;
-using BRef = Eigen::Ref<const VectorXb>;
+using namespace arrays;
+using namespace pybind11::literals;
 
 StegoPrecision precision(const std::string& s) {
   if (s == "fixed32") return StegoPrecision::Fixed32;
@@ -33,14 +32,8 @@ py::bytes to_bytes(const std::vector<std::uint8_t>& v) {
   return py::bytes(reinterpret_cast<const char*>(v.data()), v.size());
 }
 py::dict frame_dict(const ChaoFrame& f) {
-  py::dict d;
-  d["centroid"] = f.centroid;
-  d["axes"] = f.axes;
-  d["pa"] = f.pa;
-  d["pb"] = f.pb;
-  d["ia"] = f.ia;
-  d["ib"] = f.ib;
-  return d;
+  return py::dict("centroid"_a = f.centroid, "axes"_a = f.axes, "pa"_a = f.pa, "pb"_a = f.pb, "ia"_a = f.ia,
+                  "ib"_a = f.ib);
 }
 ChaoFrame frame_from(const py::dict& d) {
   ChaoFrame f;

@@ -8,6 +8,16 @@
 
 namespace meshmark::python {
 
+// The array views the bindings take from numpy (no copy when the dtype and layout match) and the
+// GIL release of the long native calls; `using namespace meshmark::python::arrays;` in a bind_*.cpp.
+namespace arrays {
+using VRef = Eigen::Ref<const MatrixX3dR>;       // (n, 3) float64 vertices
+using TRef = Eigen::Ref<const MatrixX3iR>;       // (t, 3) int32 triangles
+using IRef = Eigen::Ref<const VectorXi>;         // (n,) int32
+using BRef = Eigen::Ref<const VectorXb>;         // (n,) uint8 flags
+using Release = pybind11::call_guard<pybind11::gil_scoped_release>;
+}  // namespace arrays
+
 // Faces passed from Python as (indices int32, offsets int64) arrays.
 inline Polygons make_polygons(VectorXi indices, VectorXo offsets) {
   Polygons P;

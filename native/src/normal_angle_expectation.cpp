@@ -12,10 +12,7 @@ namespace meshmark {
 double expected_normal_angle(double r) {
   if (!(r >= 0)) throw MeshError("expected_normal_angle: r = l/h must be >= 0, got " + std::to_string(r));
   if (std::isinf(r)) return M_PI / 2;
-  if (r < 0.05) {  // Taylor series of eq. 4.1.7 at 0 (derived with sympy; next term -127 r^13 / 2730)
-    const double r2 = r * r;
-    return r * (0.5 + r2 * (1.0 / 12 + r2 * (-1.0 / 30 + r2 * (-5.0 / 168 + r2 * (1.0 / 30 + r2 * (5.0 / 132))))));
-  }
+  if (r < 0.05) return expected_normal_angle_series(r);  // Taylor series of eq. 4.1.7 at 0
   if (r > 1e3) {  // expansion at infinity of eq. 4.1.7 + 4.1.8
     const double x = 1 / r;
     return M_PI / 2 - (std::log(4.0) + M_PI) / 4 * x + x * x * x / 12;

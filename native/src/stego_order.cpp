@@ -1,6 +1,7 @@
 // pi_1 / pi_2 of thesis §4.3.2: projection order on the first principal axis, permutation invariant.
 #include "meshmark/stego_order.h"
 #include "meshmark/error.h"
+#include "meshmark/huge_pages.h"
 #include "meshmark/pca.h"
 
 #include <Eigen/Eigenvalues>
@@ -22,8 +23,24 @@ inline std::uint64_t bits_of(double x) {
   return b;
 }
 // Per-vertex value -> fixed point integer (deterministic, the same for every vertex order).
-inline std::int64_t fix(double x, double pow2) { return std::llround(x * pow2); }  // pow2 = 2^scale: exact product
+// llround(x * pow2) (pow2 = 2^scale: exact product), inline: |y| < 2^62 here, so the truncation and
+// y - trunc(y) are exact and rounding half away from zero is one comparison.
+inline std::int64_t fix(double x, double pow2) {
+  const double y = x * pow2;
+  std::int64_t r = static_cast<std::int64_t>(y);
+  const double f = y - static_cast<double>(r);
+  return r + (f >= 0.5) - (f <= -0.5);
+}
 inline long double unfix(i128 s, int scale) { return std::ldexp(static_cast<long double>(s), -scale); }
+// n zero-initialised elements, huge pages advised before the first touch (huge_pages.h)
+template <class T>
+std::vector<T> big_vector(std::size_t n) {
+  std::vector<T> v;
+  v.reserve(n);
+  advise_huge_pages(v.data(), n * sizeof(T));
+  v.resize(n);
+  return v;
+}
 inline std::uint64_t mix(std::uint64_t x) {  // splitmix64 finalizer
   x += 0x9e3779b97f4a7c15ULL;
   x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
@@ -35,8 +52,10 @@ inline std::uint64_t mix(std::uint64_t x) {  // splitmix64 finalizer
 StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<const VectorXi>& t, int E,
                        const Eigen::Vector3d& o, const Polygons& P) {
   // Relative to the frame origin (exact: Q - o is on the same grid and smaller than 2^E).
-  MatrixX3dR Q = Q0.rowwise() - o.transpose();
-  const Eigen::Index n = Q.rows();
+  const Eigen::Index n = Q0.rows();
+  MatrixX3dR Q(n, 3);
+  advise_huge_pages(Q.data(), static_cast<std::size_t>(n) * 3 * sizeof(double));
+  Q = Q0.rowwise() - o.transpose();
   if (n == 0) throw MeshError("empty mesh: no vertices to order");
   if (t.size() != n) throw MeshError("t must have one cell exponent per vertex");
   if (E < -300 || E > 300) throw MeshError("coordinates out of the range of the stego orderings (|x| ~ 2^" + std::to_string(E) + ")");
@@ -74,7 +93,7 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
   const double lambda = std::max(0.0, es.eigenvalues()[2]);
   // Projections and the sign rule of meshmark::pca (third moment; exact fixed-point sum of p^3,
   // |p| <= sqrt(3) 2^(E+1) < 2^(E+2), |p^3| < 2^(3E+6)).
-  std::vector<double> proj(static_cast<std::size_t>(n));
+  std::vector<double> proj = big_vector<double>(static_cast<std::size_t>(n));
   const int sc3 = 56 - 3 * E;
   const double p3 = std::ldexp(1.0, sc3);
   i128 m3s = 0;
@@ -94,29 +113,60 @@ StegoOrder stego_order(const Eigen::Ref<const MatrixX3dR>& Q0, const Eigen::Ref<
   StegoOrder out;
   out.axis = q;
   out.centroid = mu + o;
-  // Sort: LSD radix sort (4 passes of 16 bits) on the order-preserving integer image of the
-  // projection, then the rare runs of equal projections by the rest of the key.
-  std::vector<std::uint64_t> kp(static_cast<std::size_t>(n)), kt(static_cast<std::size_t>(n));
-  std::vector<Index> ord(static_cast<std::size_t>(n)), ot(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const std::uint64_t b = bits_of(proj[static_cast<std::size_t>(i)]);
-    kp[static_cast<std::size_t>(i)] = (b >> 63) ? ~b : (b | (std::uint64_t{1} << 63));
-    ord[static_cast<std::size_t>(i)] = static_cast<Index>(i);
+  // Sort by kp, the order-preserving integer image of the projection (so -0.0 sorts before +0.0),
+  // ties by vertex index (a stable sort). Done as: a stable LSD radix sort (3 passes of 11 bits, the
+  // buckets stay in L1) on k32 = floor((p - pmin) 2^32 / (pmax - pmin)), which is non-decreasing in p
+  // (each operation is monotone under rounding), then the runs of equal k32 by (kp, index).
+  const std::size_t N = static_cast<std::size_t>(n);
+  std::vector<std::uint64_t> kp = big_vector<std::uint64_t>(N);
+  std::vector<std::uint32_t> k32 = big_vector<std::uint32_t>(N), kt = big_vector<std::uint32_t>(N);
+  std::vector<Index> ord = big_vector<Index>(N), ot = big_vector<Index>(N);
+  double lo = proj[0], hi = proj[0];
+  for (double p : proj) lo = std::min(lo, p), hi = std::max(hi, p);
+  double scale = 4294967295.0 / (hi - lo);
+  if (!std::isfinite(scale)) scale = 0;  // all equal (or a span too small to divide by)
+  for (std::size_t i = 0; i < N; ++i) {
+    const std::uint64_t b = bits_of(proj[i]);
+    kp[i] = (b >> 63) ? ~b : (b | (std::uint64_t{1} << 63));
+    const double x = (proj[i] - lo) * scale;
+    k32[i] = x >= 4294967295.0 ? 0xffffffffu : static_cast<std::uint32_t>(x);
+    ord[i] = static_cast<Index>(i);
   }
-  std::vector<std::size_t> count(65537);
-  for (int pass = 0; pass < 4; ++pass) {
-    const int shift = 16 * pass;
-    std::fill(count.begin(), count.end(), 0);
-    for (std::size_t i = 0; i < kp.size(); ++i) ++count[((kp[i] >> shift) & 0xffffu) + 1];
-    if (count[((kp[0] >> shift) & 0xffffu) + 1] == kp.size()) continue;  // one digit value: nothing to do
-    for (std::size_t d = 1; d < count.size(); ++d) count[d] += count[d - 1];
-    for (std::size_t i = 0; i < kp.size(); ++i) {
-      const std::size_t dst = count[(kp[i] >> shift) & 0xffffu]++;
-      kt[dst] = kp[i];
+  constexpr int kBits = 11, kPasses = 3;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
+  std::vector<std::size_t> count(kPasses * kBuckets, 0);
+  for (std::size_t i = 0; i < N; ++i)
+    for (int pass = 0; pass < kPasses; ++pass) ++count[pass * kBuckets + ((k32[i] >> (kBits * pass)) & (kBuckets - 1))];
+  for (int pass = 0; pass < kPasses; ++pass) {
+    const int shift = kBits * pass;
+    std::size_t* c = count.data() + pass * kBuckets;
+    if (c[(k32[0] >> shift) & (kBuckets - 1)] == N) continue;  // one digit value: nothing to do
+    std::size_t sum = 0;
+    for (std::size_t d = 0; d < kBuckets; ++d) {
+      const std::size_t x = c[d];
+      c[d] = sum;
+      sum += x;
+    }
+    for (std::size_t i = 0; i < N; ++i) {
+      const std::size_t dst = c[(k32[i] >> shift) & (kBuckets - 1)]++;
+      kt[dst] = k32[i];
       ot[dst] = ord[i];
     }
-    kp.swap(kt);
+    k32.swap(kt);
     ord.swap(ot);
+  }
+  for (std::size_t k = 0; k < N;) {
+    std::size_t e = k + 1;
+    while (e < N && k32[e] == k32[k]) ++e;
+    if (e - k > 1)
+      std::sort(ord.begin() + static_cast<std::ptrdiff_t>(k), ord.begin() + static_cast<std::ptrdiff_t>(e),
+                [&](Index a, Index b) { return kp[a] != kp[b] ? kp[a] < kp[b] : a < b; });
+    k = e;
+  }
+  {  // kp in sorted order, for the runs below
+    std::vector<std::uint64_t> ks = big_vector<std::uint64_t>(N);
+    for (std::size_t j = 0; j < N; ++j) ks[j] = kp[static_cast<std::size_t>(ord[j])];
+    kp.swap(ks);
   }
   // Runs of equal projections: sort by (x, y, z, t); only vertices still tied after that need the
   // neighbourhood hash (order-free wrapping sums over their faces), computed for them alone.

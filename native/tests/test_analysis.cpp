@@ -61,3 +61,36 @@ TEST(Analysis, SweepSeedsDiffer) {
   EXPECT_NE(sweep_seed(0, 12, 0), sweep_seed(0, 12, 1));
   EXPECT_NE(sweep_seed(0, 12, 0), sweep_seed(1, 12, 0));
 }
+
+TEST(Analysis, LevelFastPathsEqualTheGeneralOnes) {
+  // a bumpy grid with skinny, degenerate and unused parts: the fast paths give the general levels
+  const int m = 40;
+  MatrixX3dR V((m + 1) * (m + 1) + 1, 3);
+  for (int i = 0; i <= m; ++i)
+    for (int j = 0; j <= m; ++j)
+      V.row(i * (m + 1) + j) << i * (i % 7 == 0 ? 1.0 : 1.3), j * 0.01 * (1 + j % 3), std::sin(0.3 * i * j);
+  V.row(V.rows() - 1) << 5, 5, 5;  // unreferenced
+  MatrixX3iR T(2 * m * m + 1, 3);
+  int f = 0;
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      const int a = i * (m + 1) + j;
+      T.row(f++) << a, a + 1, a + m + 2;
+      T.row(f++) << a, a + m + 2, a + m + 1;
+    }
+  T.row(f) << 0, 0, 1;  // zero area
+  const Eigen::VectorXd kappa = gaussian_curvature(V, T).kappa;
+  for (double eps : {0.001, 0.01, 0.1, 1.0}) {
+    const auto fast = uniform_adaptive_levels(V, T, eps, 0.608);
+    ASSERT_TRUE(fast.has_value());
+    EXPECT_EQ(*fast, adaptive_levels(V, T, kappa, eps, 0.0, 0.0, 0.5, 0.608).vertex_level);
+    for (NoiseBound b : {NoiseBound::Min, NoiseBound::Appr, NoiseBound::Max})
+      for (LevelFormula fm : {LevelFormula::Auto, LevelFormula::Linear, LevelFormula::Exact}) {
+        const auto only = quantization_level_only(V, T, eps, b, fm, 0.608);
+        ASSERT_TRUE(only.has_value());
+        EXPECT_EQ(*only, quantization_level(V, T, eps, b, fm, 0.608).level);
+      }
+  }
+  MatrixX3dR Vh = V * 1e125;  // |x| >= 2^400: the curvature could overflow, the fast path defers
+  EXPECT_FALSE(uniform_adaptive_levels(Vh, T, 0.01, 0.608).has_value());
+}

@@ -2,6 +2,8 @@
 #pragma once
 #include "meshmark/mesh.h"
 
+#include <optional>
+
 namespace meshmark {
 
 // Per-triangle estimate of the expected normal change when noise is added to all three vertices:
@@ -76,5 +78,25 @@ struct AdaptiveLevels {
 AdaptiveLevels adaptive_levels(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T,
                                const Eigen::Ref<const Eigen::VectorXd>& kappa, double eps0, double alpha, double mu,
                                double sigma, double eta);
+
+// Level-only fast paths (meshmark.stego computes levels three times per embed + extract). Each gives
+// exactly the result of the general function, in one pass over the triangles and without the (t,3)
+// heights, or nullopt where that equality cannot be guaranteed (the caller then runs the general one).
+//
+// quantization_level(V, T, eps, bound, formula, eta, switch_tol).level, with the triangles visited in
+// vertex-block order (the gathers stay in cache). Its sums then differ from quantization_level's by
+// rounding only (< 3 M u relative for M usable triangles, all terms being >= 0); every comparison that
+// decides the level (E_lin or E_mesh against eps, the Auto switch) is made with that margin, and
+// nullopt is returned when one is closer than it.
+std::optional<int> quantization_level_only(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T,
+                                           double eps, NoiseBound bound, LevelFormula formula, double eta,
+                                           double switch_tol = 0.1);
+
+// adaptive_levels(V, T, kappa, eps0, alpha = 0, mu, sigma, eta).vertex_level for any kappa that has no
+// NaN: with alpha = 0, eps_j = 0 - 0 exp(.) + eps0 = eps0 exactly, so no curvature is needed. kappa
+// (gaussian_curvature: 2 pi or pi minus a sum of atan2 angles) is finite whenever the coordinates are
+// finite and below 2^400 in magnitude (no dot product overflows); nullopt for other coordinates.
+std::optional<VectorXi> uniform_adaptive_levels(const Eigen::Ref<const MatrixX3dR>& V,
+                                                const Eigen::Ref<const MatrixX3iR>& T, double eps0, double eta);
 
 }  // namespace meshmark

@@ -18,7 +18,13 @@ def mesh_arrays(mesh, name: str = "mesh"):
         m = as_mesh(*mesh)
     else:
         raise MeshError(f"{name} must be a meshmark.Mesh or a (V, F) tuple, got {type(mesh).__name__}")
-    T = np.ascontiguousarray(m.triangles, dtype=np.int32)
+    # whether every face is a triangle is a property of the face set: remembered with it (with_vertices
+    # shares it), so that repeated levels on new positions (meshmark.stego) skip the check
+    tri = m._topology.get("all_triangles")
+    if tri is None:
+        tri = m._topology["all_triangles"] = m.is_triangle_mesh
+    T = m.face_indices.reshape(-1, 3) if tri else m.triangles
+    T = np.ascontiguousarray(T, dtype=np.int32)
     if len(T) == 0:
         raise MeshError(f"{name} has no triangle")
     return m, m.V, T

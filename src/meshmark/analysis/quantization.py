@@ -129,6 +129,15 @@ def quantization_level(mesh, tolerance: float = 1.0, bound: str = "appr", *, eta
     the exact E(theta) throughout. ``mesh``: a Mesh or (V, F). Returns an int in 0..32.
     MeshError if tolerance <= 0 or the mesh has no usable (non-zero area) triangle.
     """
+    b, f = _bound(bound)
+    _, V, T = mesh_arrays(mesh)
+    eps = math.radians(positive(tolerance, "tolerance"))
+    eta = positive(eta, "eta")
+    # one pass without the exact E_mesh where it cannot change the level (quantization_level.h); the
+    # same integer as quantization_details (tests/test_stego.py::test_fast_levels_equal_general_ones)
+    lv = _core.quantization_level_only(V, T, eps, b, f, eta, 0.1)
+    if lv is not None:
+        return int(lv)
     return int(quantization_details(mesh, tolerance, bound, eta=eta)["level"])
 
 
@@ -154,6 +163,15 @@ def adaptive_levels(mesh, tolerance: float = 1.0, *, alpha: float = ALPHA, mu: f
     triangles. ``tolerance`` is eps0 in degrees (the thesis used 0.0017 rad ~ 0.1 deg); alpha = 0.7979,
     mu = 0, sigma = 0.5 (Fig. 4.7). Returns (n,) int64 in 0..32 (0 for unreferenced vertices, 32 for
     vertices with only zero-area triangles)."""
+    if float(alpha) == 0.0:  # eps_j = eps0 for every triangle: no curvature needed (quantization_level.h)
+        _, V, T = mesh_arrays(mesh)
+        eps0 = math.radians(positive(tolerance, "tolerance"))
+        positive(sigma, "sigma")
+        if not math.isfinite(float(mu)):
+            raise MeshError("alpha and mu must be finite")
+        lv = _core.uniform_adaptive_levels(V, T, eps0, positive(eta, "eta"))
+        if lv is not None:
+            return lv.astype(np.int64)
     return adaptive_details(mesh, tolerance, alpha=alpha, mu=mu, sigma=sigma, eta=eta)["levels"]
 
 
