@@ -43,43 +43,6 @@ void check(LaplacianCarrier kind, double scale, double compress, Eigen::Index n_
   if (tri && n_tri == 0 && n_edges > 0) throw MeshError("the normal and cotangent carriers need the mesh's triangles");
 }
 
-// The extraction's path for the default carrier (value only): ||L_i|| / l_i in one pass over the edges.
-// The valences are counted in bytes (1.3 MB at 1.28M vertices, where 32-bit counts take 5 MB beside
-// the 41 MB of ring sums: the scattered increments then miss the cache less); a valence of 256 or
-// more wraps and is recounted in full. Same sums in the same order as the general path: same values.
-LaplacianCarrierField local_from_edges(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX2iR>& E) {
-  const Eigen::Index n = V.rows();
-  RingSums S;
-  S.buffer.assign(static_cast<size_t>(4 * n + 8), 0.0);
-  const auto addr = reinterpret_cast<std::uintptr_t>(S.buffer.data());
-  S.acc = S.buffer.data() + ((64 - addr % 64) % 64) / sizeof(double);
-  std::vector<std::uint8_t> deg8(static_cast<size_t>(n), 0);
-  bool wrapped = false;
-  for (Eigen::Index e = 0; e < E.rows(); ++e) {
-    const Index a = E(e, 0), b = E(e, 1);
-    const double x = V(a, 0) - V(b, 0), y = V(a, 1) - V(b, 1), z = V(a, 2) - V(b, 2);
-    const double l = std::sqrt(x * x + y * y + z * z);
-    double *pa = S.row(a), *pb = S.row(b);
-    pa[0] += x, pa[1] += y, pa[2] += z, pa[3] += l;
-    pb[0] -= x, pb[1] -= y, pb[2] -= z, pb[3] += l;
-    wrapped |= (++deg8[a] == 0) | (++deg8[b] == 0);
-  }
-  std::vector<Index> deg;
-  if (wrapped) {
-    deg.assign(static_cast<size_t>(n), 0);
-    for (Eigen::Index e = 0; e < E.rows(); ++e) ++deg[E(e, 0)], ++deg[E(e, 1)];
-  }
-  LaplacianCarrierField out;
-  out.value.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Index k = wrapped ? deg[i] : static_cast<Index>(deg8[i]);
-    const double* r = S.row(i);
-    const double ell = k ? r[3] / static_cast<double>(k) : 0.0;
-    out.value[i] = (k && ell > 0) ? Eigen::RowVector3d(r[0], r[1], r[2]).norm() / ell : 0.0;  // eq. 7.1.5 over l_i (as finish())
-  }
-  return out;
-}
-
 }  // namespace
 
 LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX2iR>& E,
@@ -87,7 +50,6 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
                                         bool with_direction, double compress) {
   check(kind, scale, compress, T.rows(), E.rows());
   const Eigen::Index n = V.rows();
-  if (kind == LaplacianCarrier::Local && !with_direction && compress == 0) return local_from_edges(V, E);
   RingSums S;
   S.zero(n);
   for (Eigen::Index e = 0; e < E.rows(); ++e) {  // one pass over the edges (scattered to both ends)

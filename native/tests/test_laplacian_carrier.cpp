@@ -75,26 +75,3 @@ TEST(LaplacianCarrier, BadInputIsAnError) {
   EXPECT_THROW(laplacian_carrier(V, E, T, LaplacianCarrier::Thesis, 0.0), MeshError);
   EXPECT_NO_THROW(laplacian_carrier(V, E, none, LaplacianCarrier::Local));
 }
-
-// The extraction's fast path for the default carrier (value only, valences counted in bytes) gives
-// exactly the general path's values (with_direction forces the general path), also when a valence
-// wraps the byte counter (a fan of 300 triangles around one vertex).
-TEST(LaplacianCarrier, LocalFastPathIsExact) {
-  const int spokes = 300;
-  MatrixX3dR V(spokes + 1, 3);
-  MatrixX3iR T(spokes, 3);
-  std::mt19937 rng(9);
-  std::uniform_real_distribution<double> u(-0.05, 0.05);
-  V.row(0) << 0.01, -0.02, 0.1;
-  for (int i = 0; i < spokes; ++i) {
-    const double a = 2 * M_PI * i / spokes;
-    V.row(i + 1) << std::cos(a) + u(rng), std::sin(a) + u(rng), u(rng);
-    T.row(i) << 0, i + 1, (i + 1) % spokes + 1;
-  }
-  const MatrixX2iR E = unique_edges(spokes + 1, Polygons::from_triangles(T)).E;
-  const auto fast = laplacian_carrier(V, E, T, LaplacianCarrier::Local, 1.0, false);
-  const auto full = laplacian_carrier(V, E, T, LaplacianCarrier::Local, 1.0, true);
-  ASSERT_EQ(fast.value.size(), full.value.size());
-  for (Eigen::Index i = 0; i < fast.value.size(); ++i) EXPECT_EQ(fast.value[i], full.value[i]) << i;
-  EXPECT_GT(fast.value[0], 0.0);
-}
