@@ -131,18 +131,40 @@ class _Laplacian:
     def _lengths(self, mesh: Mesh, p: dict):
         """(E, d / scale, scale): edges, normalised Laplacian lengths (eq. 7.1.5) and the scale unit,
         computed once per mesh (native, one pass over the edges)."""
+        return self._state(mesh, p)["lengths"]
+
+    def _state(self, mesh: Mesh, p: dict) -> dict:
+        """What is derived from these positions, kept in one cache entry on the mesh (the cache holds the
+        two most recent entries): the lengths, the sorted referenced lengths and the range factors
+        found, so that the embedding's check on the marked mesh and its re-reading share them."""
         eps = p["eps"] if p["thesis_exact"] else 0.0
         carrier = carrier_of(p)
 
         def compute():
             E = _edges(mesh)
             if carrier != "thesis" and not p["thesis_exact"]:  # laplacian_carrier.h
-                return _carrier_field(mesh, carrier)
+                return {"lengths": _carrier_field(mesh, carrier)}
             d, mel = _core.laplacian_lengths_scaled(mesh.V, E, eps)
             scale = 1.0 if p["thesis_exact"] else mel
-            return E, d / scale, scale
+            return {"lengths": (E, d / scale, scale)}
 
         return mesh.cached(("laplacian_lengths", eps, bool(p["thesis_exact"]), carrier), compute)
+
+    def _sorted(self, mesh: Mesh, p: dict) -> np.ndarray:
+        """The referenced vertices' carrier values, sorted (cached with the lengths)."""
+        st = self._state(mesh, p)
+        if "sorted" not in st:
+            st["sorted"] = np.sort(st["lengths"][1][_referenced(mesh) == 1])
+        return st["sorted"]
+
+    def _range(self, mesh: Mesh, p: dict, lo: float, hi: float, ids: np.ndarray) -> float:
+        """The range search's factor for these carriers (cached with the lengths)."""
+        st = self._state(mesh, p).setdefault("range", {})
+        ids = np.asarray(ids, np.int64)
+        key = (float(lo), float(hi), int(p["K"]), ids.tobytes())
+        if key not in st:
+            st[key] = _range_factor(self._sorted(mesh, p), lo, hi, p["K"], ids)
+        return st[key]
 
     def carriers(self, mesh: Mesh, p: dict):
         E, d, scale = self._lengths(mesh, p)
@@ -170,13 +192,13 @@ class _Laplacian:
             _triangles(mesh, carrier_of(p)), CARRIERS[carrier_of(p)][1])
         side = dict(side)
         if not p["thesis_exact"]:  # express the range in units of the marked mesh's mean edge length
-            _, dm, scale_marked = self._lengths(mesh.with_vertices(V), p)
+            marked = mesh.with_vertices(V)
+            _, _, scale_marked = self._lengths(marked, p)
             r = scale / scale_marked  # 1 for the locally normalised carriers
             side["lo"], side["hi"] = side["lo"] * r, side["hi"] * r
             # The range search may be used at extraction only if, on the marked mesh itself, it finds
             # t = 1: on skewed histograms (huge first bins) a shifted range can score higher by chance.
-            dm = np.sort(dm[_referenced(mesh) == 1])
-            t = _range_factor(dm, side["lo"], side["hi"], p["K"], np.asarray(ids, np.int64))
+            t = self._range(marked, p, side["lo"], side["hi"], ids)
             side["range_search"] = bool(side.get("range_search", True) and abs(t - 1.0) < 1e-3)
         return V, side, {"n_moved": int(n_moved), "n_solve_rounds": int(rounds), "n_pcg_iterations": int(iters)}
 
@@ -184,12 +206,11 @@ class _Laplacian:
         ids = np.asarray(ids, np.int64)
         if ids.size and ids.max() >= (p["K"] - 2) // 2:
             raise MeshError("keyfile lists a carrier beyond the histogram's pairs (corrupt keyfile?)")
-        E, d, _ = self._lengths(mesh, p)
-        d = np.sort(d[_referenced(mesh) == 1])
+        d = self._sorted(mesh, p)
         lo, hi, K = side["lo"], side["hi"], p["K"]
         t = 1.0
         if not p["thesis_exact"] and side.get("range_search", True):
-            t = _range_factor(d, lo, hi, K, ids)
+            t = self._range(mesh, p, lo, hi, ids)
         c1, c2 = _pair_counts(d, lo * t, hi * t, K, ids)
         bits = (c1 >= c2).astype(np.uint8)  # eq. 7.1.10 / §7.3: +1 if |B_k| >= |B_k+1|
         # signed reliability: the pair's count margin relative to its size (> 0: bit 1)
