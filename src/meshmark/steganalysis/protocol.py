@@ -42,6 +42,19 @@ def _cho(kind, lo, hi):
     return embed
 
 
+def _fitting(embed, n):
+    """embed(n bits) with n reduced to what the framework's coding says fits ("at most N payload bits fit":
+    the capacity counts carriers before the check bits and the convolutional code)."""
+    import re
+    try:
+        return embed(n)
+    except MeshError as exc:
+        m = re.search(r"at most (\d+) payload bits fit", str(exc))
+        if not m or not 0 < int(m.group(1)) < n:
+            raise
+        return embed(int(m.group(1)))
+
+
 def _laplacian(thesis_exact):
     def embed(mesh, rng):
         from ..watermark import laplacian
@@ -50,8 +63,9 @@ def _laplacian(thesis_exact):
         if cap < 17:
             raise MeshError(f"laplacian: only {cap} carrier bits")
         bits = _bits(rng, min(32, cap - 16)).astype(np.uint8)  # the rest of the carriers: repetition
-        return laplacian.embed(mesh.V, mesh, payload=bits, key=f"k{rng.integers(1 << 30)}",
-                               thesis_exact=thesis_exact, **kw).V
+        key = f"k{rng.integers(1 << 30)}"
+        return _fitting(lambda n: laplacian.embed(mesh.V, mesh, payload=bits[:n], key=key, thesis_exact=thesis_exact,
+                                                  **kw).V, len(bits))
     return embed
 
 
@@ -60,7 +74,8 @@ def _framework(method):
         from ..watermark import framework
         cap = framework.capacity(mesh.V, mesh, method=method)
         bits = _bits(rng, max(1, min(32, cap - 16))).astype(np.uint8)
-        return framework.embed(mesh.V, mesh, payload=bits, key=f"k{rng.integers(1 << 30)}", method=method).V
+        key = f"k{rng.integers(1 << 30)}"
+        return _fitting(lambda n: framework.embed(mesh.V, mesh, payload=bits[:n], key=key, method=method).V, len(bits))
     return embed
 
 
@@ -126,6 +141,7 @@ def mesh_files(folders) -> list[pathlib.Path]:
 def build_dataset(paths, methods=None, feature_sets=("yang208",), seed: int = 0, log=None) -> dict:
     """Features of every cover and of one stego version per (cover, method).
 
+    ``paths``: mesh files, or ``(name, Mesh)`` pairs for meshes made in memory (augmented covers).
     Returns ``{"cover": (N,) int cover index, "method": (N,) str ("cover" or method), "path": list of
     cover paths, "X": {set: (N, d)}, "failed": [(path, method, reason)]}``. Covers that cannot be read
     or are too small for the features are skipped (listed in failed)."""
@@ -138,7 +154,7 @@ def build_dataset(paths, methods=None, feature_sets=("yang208",), seed: int = 0,
     t0 = time.perf_counter()
     for i, p in enumerate(paths):
         try:
-            mesh = read_mesh(p)
+            p, mesh = p if isinstance(p, tuple) else (p, read_mesh(p))
             fc = {s: compute_features(mesh, s) for s in feature_sets}
         except MeshError as exc:
             failed.append((str(p), "cover", str(exc)))
