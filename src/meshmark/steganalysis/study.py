@@ -152,10 +152,12 @@ def protocol(cfg: dict, base: pathlib.Path, out: pathlib.Path, log) -> list[str]
     for fs, c, uni, params in runs:
         t = time.perf_counter()
         r = P.evaluate(ds, fs, c, splits, frac, universal=uni, **params)
+        ptext = json.dumps(params, sort_keys=True) if params else ""
         for x in r:
-            x.update(feature_set=fs, classifier=c, universal_training=uni)
+            x.update(feature_set=fs, classifier=c, universal_training=uni, params=ptext)
         rows += r
-        table += [{"feature_set": fs, "classifier": c, "universal_training": uni, **m} for m in P.median_table(r)]
+        table += [{"feature_set": fs, "classifier": c, "universal_training": uni, "params": ptext, **m}
+                  for m in P.median_table(r)]
         log(f"[steganalysis] {fs} + {c} ({uni}): {time.perf_counter() - t:.0f} s")
     t_train = time.perf_counter() - t1
     _write_csv(out / "protocol_splits.csv", rows)
@@ -166,18 +168,19 @@ def protocol(cfg: dict, base: pathlib.Path, out: pathlib.Path, log) -> list[str]
             curve.append({"k": int(k), **m})
     _write_csv(out / "protocol_pca.csv", curve)
 
-    L.append(f"\n| feature set | classifier | universal training | detector | accuracy | TPR | FPR | P_E |  "
+    L.append(f"\n| feature set | classifier | universal training | params | detector | accuracy | TPR | FPR | P_E |  "
              f"(median of {splits} splits; thesis: {THESIS})")
-    L.append("|---|---|---|---|---:|---:|---:|---:|")
+    L.append("|---|---|---|---|---|---:|---:|---:|---:|")
     for r in table:
-        L.append(f"| {r['feature_set']} | {r['classifier']} | {r['universal_training']} | {r['detector']} | "
+        L.append(f"| {r['feature_set']} | {r['classifier']} | {r['universal_training']} | {r['params']} | {r['detector']} | "
                  f"{r['median_accuracy']:.3f} | {r['median_tpr']:.3f} | {r['median_fpr']:.3f} | {r['median_pe']:.3f} |")
     best = {}
     for r in table:
         if r["detector"].startswith("specific:"):
             m = r["detector"].split(":", 1)[1]
             if m not in best or r["median_pe"] < best[m][0]:
-                best[m] = (r["median_pe"], r["feature_set"], r["classifier"], r["median_accuracy"])
+                best[m] = (r["median_pe"], r["feature_set"], r["classifier"] + (f" {r['params']}" if r["params"] else ""),
+                           r["median_accuracy"])
     ranking = [{"rank": i + 1, "method": m, "best_pe": pe, "accuracy": acc, "by": f"{fs} + {c}"}
                for i, (m, (pe, fs, c, acc)) in enumerate(sorted(best.items(), key=lambda kv: -kv[1][0]))]
     _write_csv(out / "protocol_ranking.csv", ranking)
@@ -222,14 +225,15 @@ def _plots(out, table, curve, splits):
         fig.tight_layout()
         fig.savefig(out / "protocol_pca.png", dpi=120)
         plt.close(fig)
-    runs = list(dict.fromkeys((r["feature_set"], r["classifier"], r["universal_training"]) for r in table))
+    runs = list(dict.fromkeys((r["feature_set"], r["classifier"], r["universal_training"], r["params"]) for r in table))
     dets = sorted({r["detector"] for r in table}, key=lambda d: (d == "universal", d))
     fig, ax = plt.subplots(figsize=(max(8, len(dets) * 0.9), 5))
     w = 0.8 / max(1, len(runs))
     for j, run in enumerate(runs):
-        acc = {r["detector"]: r["median_accuracy"] for r in table if (r["feature_set"], r["classifier"], r["universal_training"]) == run}
+        acc = {r["detector"]: r["median_accuracy"] for r in table
+               if (r["feature_set"], r["classifier"], r["universal_training"], r["params"]) == run}
         ax.bar(np.arange(len(dets)) + j * w, [acc.get(d, np.nan) for d in dets], w,
-               label=f"{run[0]} + {run[1]}" + ("" if run[2] == "pick" else f" ({run[2]})"))
+               label=f"{run[0]} + {run[1]}" + ("" if run[2] == "pick" else f" ({run[2]})") + (f" {run[3]}" if run[3] else ""))
     ax.set_xticks(np.arange(len(dets)) + 0.4 - w / 2)
     ax.set_xticklabels([d.replace("specific:", "") for d in dets], rotation=45, ha="right", fontsize=8)
     ax.set_ylim(0.4, 1.0)
