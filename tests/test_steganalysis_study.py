@@ -24,7 +24,8 @@ runs = [{{ set = "yang208", classifier = "ensemble" }}, {{ set = "yang208", clas
 universal = []
 splits = 3
 pca_k = [2, 5]
-holdout = 0
+holdout = 1
+holdout_set = "yang208"
 [steganalysis.cho_table]
 folders = ["{corpus}"]
 limit = 2
@@ -42,7 +43,7 @@ def test_study_run_writes_every_table_and_figure(tmp_path):
     S = json.loads(r.output[r.output.index("{\n"):])
     assert S["planned"] == 2 and S["ok"] == 2
     for f in ("dataset.npz", "protocol_splits.csv", "protocol_median.csv", "protocol_ranking.csv", "protocol_pca.csv",
-              "protocol_pca.png", "protocol_accuracy.png", "cho_table.csv", "cho_table_summary.csv", "cho_table.png",
+              "protocol_pca.png", "protocol_accuracy.png", "protocol_holdout.csv", "cho_table.csv", "cho_table_summary.csv", "cho_table.png",
               "tables.md"):
         assert (out / f).is_file(), f
     med = list(csv.DictReader(open(out / "protocol_median.csv")))
