@@ -72,6 +72,8 @@ def test_bad_training_input():
         clf.QDA().fit(np.ones((5, 3)), np.zeros(5))
     with pytest.raises(MeshError, match="empty training corpus"):
         Model.train(np.zeros((0, 208)), [], [], "yang208")
+    with pytest.raises(MeshError, match="both covers and stego"):  # a single class
+        Model.train(np.ones((6, 208)), np.zeros(6), ["cover"] * 6, "yang208")
 
 
 def test_model_roundtrip_and_version(tmp_path):
@@ -91,6 +93,11 @@ def test_model_roundtrip_and_version(tmp_path):
     np.savez(tmp_path / "old.npz", **z)
     with pytest.raises(MeshError, match="format version 99"):
         Model.load(tmp_path / "old.npz")
+    meta["format_version"] = 1  # the first session's models: features computed with the 1e-12 floor
+    z["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)
+    np.savez(tmp_path / "v1.npz", **z)
+    with pytest.raises(MeshError, match="format version 1; this meshmark reads version 2: retrain"):
+        Model.load(tmp_path / "v1.npz")
     (tmp_path / "junk.npz").write_bytes(b"not a model")
     with pytest.raises(MeshError, match="not a meshmark steganalysis model"):
         Model.load(tmp_path / "junk.npz")

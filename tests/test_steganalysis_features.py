@@ -83,7 +83,7 @@ def yang_reference(V, T):
                 np.abs(dl[:, 0]), np.abs(dl[:, 1]), np.abs(dl[:, 2]),
                 np.abs(np.linalg.norm(L[m], axis=1) - np.linalg.norm(Ls[m], axis=1))]
         for f in vecs:
-            out += ref_moments(np.log(np.maximum(f, 1e-12)))
+            out += ref_moments(np.log(np.maximum(f, 1e-7)))
             out += list(_core.feature_histogram_moments(f))
     return np.array(out)
 
@@ -97,10 +97,15 @@ def test_yang208_matches_a_numpy_reference():
 
 
 def transformed(m, rng, flip):
+    """A random rotation (with an axis flip if asked), uniform scale 3.7, a translation of ~3.7 mesh sizes,
+    then a vertex permutation, a face permutation and a rotation of the corners of each face. The translation
+    is relative to the mesh size: rounding the moved coordinates perturbs the mesh by eps * |t| / size (a
+    translation of 100 sizes alone makes a 1e-14 different mesh; docs/steganalysis.md §2)."""
     R = random_rotation(rng)
     if flip:
         R = R @ np.diag([-1.0, 1.0, 1.0])  # an axis flip (reflection)
-    V = (m.V @ R.T) * 3.7 + rng.normal(size=3) * 10
+    size = np.ptp(m.V, axis=0).max()
+    V = (m.V @ R.T) * 3.7 + rng.normal(size=3) * size * 3.7
     pv = rng.permutation(m.n_vertices)
     inv = np.empty_like(pv)
     inv[pv] = np.arange(len(pv))
@@ -109,21 +114,34 @@ def transformed(m, rng, flip):
     return V[pv], T
 
 
-@pytest.mark.parametrize("name", ["classic/cow.obj", "classic/bunny.obj", "classic/camelhead.off",
-                                  "corpus/odedstein_penguin.obj"])
-def test_yang208_invariance(name):
-    """Rotation, translation, uniform scale, axis flip, vertex and face order: equal within 1e-9 relative."""
-    m = meshmark.read_mesh(shared_mesh(name))
-    F0 = feat.features(m, "yang208")
-    rng = np.random.default_rng(8)
-    for flip in (False, True):
-        V, T = transformed(m, rng, flip)
-        F1 = feat.features((V, T), "yang208")
-        rel = np.abs(F1 - F0) / (1 + np.abs(F0))
-        # Measured (docs/steganalysis.md §2): median 1e-16..1e-15; above 1e-9 only the log-skewness /
-        # kurtosis of vectors whose small values come from cancellation (| ||delta|| - ||delta'|| |,
-        # flat-region |dy|, dihedral differences): at most 10 of 208, worst 1.3e-7 (camelhead).
-        assert np.median(rel) < 1e-13 and (rel > 1e-9).sum() <= 10 and rel.max() < 2e-7, (rel.max(), np.argmax(rel))
+INVARIANCE_MESHES = ["classic/cow.obj", "classic/bunny.obj", "classic/camelhead.off", "corpus/odedstein_penguin.obj",
+                     "corpus/vhacd_foot.off"]
+
+
+def test_permutation_alone_is_bit_exact_in_the_frame():
+    """The extended-precision normalisation does not depend on the vertex order (docs/steganalysis.md §2)."""
+    m = meshmark.read_mesh(shared_mesh("classic/bunny.obj"))
+    pv = np.random.default_rng(3).permutation(m.n_vertices)
+    X0 = _core.unit_cube_normalize(m.V, m.referenced())
+    X1 = _core.unit_cube_normalize(m.V[pv], m.referenced()[pv])
+    assert np.abs(X1 - X0[pv]).max() <= 2.3e-16  # at most one rounding step (pca.h in double: 1e-14)
+
+
+@pytest.mark.parametrize("fset", ["yang208", "lfs76", "nvt36"])
+def test_invariance_every_component_1e9(fset):
+    """Rotation + axis flip, translation, uniform scale, vertex, face and corner order: EVERY component
+    within 1e-9 relative, |dF| / (1 + |F|). Measured worst (docs/steganalysis.md §2): yang208 8.6e-10 (cow),
+    lfs76 7.6e-10 (camelhead), nvt36 4.7e-10 (vhacd_foot); before the extended-precision frame and the 1e-7
+    log floor up to 1.3e-7 / 3.6e-7 / 2.3e-6."""
+    meshes = INVARIANCE_MESHES if fset != "lfs76" else INVARIANCE_MESHES[:4]  # foot: sph_az 2.6e-9 (see docs)
+    for name in meshes:
+        m = meshmark.read_mesh(shared_mesh(name))
+        F0 = feat.features(m, fset)
+        rng = np.random.default_rng(8)
+        for flip in (False, True):
+            V, T = transformed(m, rng, flip)
+            rel = np.abs(feat.features((V, T), fset) - F0) / (1 + np.abs(F0))
+            assert rel.max() <= 1e-9, (name, flip, feat.feature_names(fset)[int(np.argmax(rel))], rel.max())
 
 
 def test_yang208_sees_a_cho_mark():
@@ -165,7 +183,7 @@ def lfs_reference_first32(V, T):
     vecs.append(np.abs(np.linalg.norm(X - c, axis=1) - np.linalg.norm(Xs - c, axis=1)))
     vecs += [np.abs(L[:, k] - Ls[:, k]) for k in range(3)]
     vecs.append(np.abs(np.linalg.norm(L, axis=1) - np.linalg.norm(Ls, axis=1)))
-    return np.concatenate([ref_moments(np.log(v + 1e-12)) for v in vecs])
+    return np.concatenate([ref_moments(np.log(v + 1e-7)) for v in vecs])
 
 
 def test_lfs76_and_nvt36_lengths_reference_and_open_meshes():
@@ -182,21 +200,6 @@ def test_lfs76_and_nvt36_lengths_reference_and_open_meshes():
     for name in ("classic/camelhead.off", "classic/teapot.obj"):
         for s in ("lfs76", "nvt36"):
             assert np.isfinite(feat.features(meshmark.read_mesh(shared_mesh(name)), s)).all()
-
-
-@pytest.mark.parametrize("name,worst", [("classic/cow.obj", 1e-8), ("corpus/odedstein_penguin.obj", 1e-8),
-                                        ("classic/camelhead.off", 1e-5)])
-def test_lfs76_nvt36_invariance(name, worst):
-    """Measured worst |dF| / (1 + |F|): cow 3.9e-9 / 6.2e-11, penguin 4.5e-10 / 2.1e-10, camelhead 3.6e-7 / 1.3e-6
-    (log-kurtosis of cancellation-dominated vectors; docs/steganalysis.md §3)."""
-    m = meshmark.read_mesh(shared_mesh(name))
-    rng = np.random.default_rng(8)
-    for s in ("lfs76", "nvt36"):
-        F0 = feat.features(m, s)
-        for flip in (False, True):
-            V, T = transformed(m, rng, flip)
-            rel = np.abs(feat.features((V, T), s) - F0) / (1 + np.abs(F0))
-            assert rel.max() < worst and np.median(rel) < 1e-8, (s, rel.max())
 
 
 def test_yang208_matches_the_vectorised_reference_all_208():

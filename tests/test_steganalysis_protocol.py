@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 import meshmark
+import meshmark.attacks
 from meshmark import MeshError
 from meshmark.steganalysis import protocol as P
 from conftest import shared_mesh
@@ -49,6 +50,20 @@ def test_registry_dataset_and_evaluate():
         assert len(toy) == 3 and np.median(acc) >= 0.9 and min(acc) >= 0.75  # gross noise, 10 training covers
         tab = {r["detector"]: r for r in P.median_table(rows)}
         assert set(tab) == {"specific:toy-noise", "specific:cho-variance", "universal"}
+        # universal training variants: the same test side (every test cover + one random stego version)
+        for u in ("all", "max-specific"):
+            ur = [r for r in P.evaluate(ds, "lfs76", "ensemble", n_splits=3, test_fraction=0.25, universal=u,
+                                        n_learners=11) if r["detector"] == "universal"]
+            pick = [r for r in rows if r["detector"] == "universal"]
+            assert [r["n_test"] for r in ur] == [r["n_test"] for r in pick]
+            if u == "all":  # every stego version of the training covers: more rows than one per cover
+                assert all(r["n_train"] > p["n_train"] for r, p in zip(ur, pick))
+        with pytest.raises(MeshError, match="universal must be one of"):
+            P.evaluate(ds, "lfs76", universal="best")
+        # covers made in memory: (name, Mesh) pairs
+        m = meshmark.read_mesh(paths[0])
+        ds2 = P.build_dataset([("pig-patch", meshmark.attacks.crop(m, fraction=0.3))], ["cho-variance"])
+        assert ds2["path"] == ["pig-patch"] and list(ds2["method"]) == ["cover", "cho-variance"]
     finally:
         del P.STEGO_METHODS["toy-noise"]
 

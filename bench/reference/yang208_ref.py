@@ -60,7 +60,7 @@ def yang208(V, T, X=None):
         d, dl = X[m] - Xs[m], L[m] - Ls[m]
         for f in [*np.abs(d).T, np.linalg.norm(d, axis=1), *np.abs(dl).T,
                   np.abs(np.linalg.norm(L[m], axis=1) - np.linalg.norm(Ls[m], axis=1))]:
-            out += _moments(np.log(np.maximum(f, 1e-12))) + _hist(f)
+            out += _moments(np.log(np.maximum(f, 1e-7))) + _hist(f)
 
     def normals(P):
         nrm = np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]])
@@ -82,5 +82,5 @@ def yang208(V, T, X=None):
     dih = np.abs(angle(N[f0], N[f1]) - angle(Ns[f0], Ns[f1]))[ok]
     fa = angle(N, Ns)[okN & okNs]
     for f in (dih, fa):
-        out += _moments(np.log(np.maximum(f, 1e-12))) + _hist(f)
+        out += _moments(np.log(np.maximum(f, 1e-7))) + _hist(f)
     return np.array(out, float)

@@ -7,24 +7,29 @@
 namespace meshmark {
 
 Eigen::Vector4d moments4(const Eigen::Ref<const Eigen::VectorXd>& x) {
+  // Accumulated in long double (64-bit mantissa) and rounded once: the sums do not depend on the order
+  // of the elements (vertex / face numbering) to double precision (docs/steganalysis.md §2).
+  using LD = long double;
   const Eigen::Index n = x.size();
   Eigen::Vector4d out = Eigen::Vector4d::Zero();
   if (n == 0) return out;
-  const double mean = x.mean();
-  out[0] = mean;
+  LD s = 0;
+  for (Eigen::Index i = 0; i < n; ++i) s += x[i];
+  const LD mean = s / n;
+  out[0] = static_cast<double>(mean);
   if (n == 1) return out;
-  double m2 = 0, m3 = 0, m4 = 0;
+  LD m2 = 0, m3 = 0, m4 = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
-    const double d = x[i] - mean, d2 = d * d;
+    const LD d = x[i] - mean, d2 = d * d;
     m2 += d2;
     m3 += d2 * d;
     m4 += d2 * d2;
   }
-  out[1] = m2 / static_cast<double>(n - 1);  // unbiased variance
+  out[1] = static_cast<double>(m2 / (n - 1));  // unbiased variance
   m2 /= n, m3 /= n, m4 /= n;
   if (m2 > 0) {
-    out[2] = m3 / std::pow(m2, 1.5);  // biased skewness
-    out[3] = m4 / (m2 * m2);          // biased, non-excess kurtosis
+    out[2] = static_cast<double>(m3 / (m2 * std::sqrt(m2)));  // biased skewness
+    out[3] = static_cast<double>(m4 / (m2 * m2));             // biased, non-excess kurtosis
   }
   return out;
 }

@@ -23,13 +23,16 @@
 namespace meshmark {
 
 namespace {
-// log(|d| + 1e-12): the published eps = 2^-52 is at the rounding level of the differences, and exact
-// zeros (coplanar faces) against 1e-16 noise moved log-moments by up to 0.8 under a rotation (vhacd_hero).
-constexpr double kLogFloor = 1e-12;
+// log(|d| + eps): the published eps = 2^-52 is at the rounding level of the differences, and exact
+// zeros (coplanar faces) against 1e-16 noise moved log-moments by up to 0.8 under a rotation (vhacd_hero);
+// eps = kFeatureLogFloor (1e-7 unit-cube lengths / radians; 1e-7 rad in degrees for the spherical angles).
+constexpr double kLogFloor = kFeatureLogFloor;
+constexpr double kLogFloorDeg = kFeatureLogFloor * 180.0 / M_PI;
 
 void put4(Eigen::VectorXd& F, int j, const std::vector<double>& f) {
+  const bool degrees = j == 13 || j == 14 || j == 16 || j == 17;  // spherical az / elev and their edge differences
   F.segment<4>(4 * j) = log_moments(Eigen::Map<const Eigen::VectorXd>(f.data(), static_cast<Eigen::Index>(f.size())),
-                                    -kLogFloor);  // log(|d| + 1e-12)
+                                    degrees ? -kLogFloorDeg : -kLogFloor);  // log(|d| + eps)
 }
 
 double angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }

@@ -17,9 +17,10 @@ namespace meshmark {
 
 namespace {
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-// log(|d| + floor) for the eigenvalue differences: 1e-12, not 2^-52 (docs/steganalysis.md §3: the 3x3 solver's
-// own error is ~1e-15, and with 2^-52 the log-moments of near-zero eigenvalues varied by 1e-2 under rotation).
-constexpr double kLogFloor = 1e-12;
+// log(|d| + floor) for the eigenvalue differences: kFeatureLogFloor = 1e-7, not 2^-52 (docs/steganalysis.md §3:
+// the 3x3 solver's own error is ~1e-15; with 2^-52 the log-moments of near-zero eigenvalues varied by 1e-2 under
+// rotation, with 1e-12 by up to 2e-6).
+constexpr double kLogFloor = kFeatureLogFloor;
 
 // Inverse-distance-weighted 1-ring average (smoothpatch mode 2, one iteration, lambda 1).
 MatrixX3dR idw_smooth(const MatrixX3dR& X, const Adjacency& A) {

@@ -2,27 +2,75 @@
 #include "meshmark/error.h"
 #include "meshmark/pca.h"
 
+#include <Eigen/Eigenvalues>
+#include <cmath>
 #include <limits>
 
 namespace meshmark {
 
+// §8.1.1 in extended precision (docs/steganalysis.md §2, "Invariance"): the centroid, the covariance,
+// its eigenvectors, the third moments of the sign rule and the projection are all accumulated in long
+// double (64-bit mantissa on x86-64), and rounded to double once, at the end. Sums of n terms then
+// carry ~n * 1e-19 relative error, so the double results do not depend on the vertex order (bit-equal
+// after a permutation in practice), and the frame's own error (pca.h in double: up to 1e-14 of the
+// unit cube) drops below the rounding of the input coordinates.
 MatrixX3dR unit_cube_normalize(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const VectorXb>& mask) {
-  const PCA p = pca(V, mask);
+  using LD = long double;
+  using V3 = Eigen::Matrix<LD, 3, 1>;
+  using M3 = Eigen::Matrix<LD, 3, 3>;
   const Eigen::Index n = V.rows();
-  MatrixX3dR X(n, 3);
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::RowVector3d x = (V.row(i) - p.centroid.transpose()) * p.axes;  // PCA frame (§8.1.1)
-    X.row(i) = x;
-    if (mask.size() == 0 || mask[i]) {
-      lo = lo.cwiseMin(x.transpose());
-      hi = hi.cwiseMax(x.transpose());
+  const bool all = mask.size() == 0;
+  if (!all && mask.size() != n) throw MeshError("mask and V differ in length");
+  auto sel = [&](Eigen::Index i) { return all || mask[i]; };
+  auto row = [&](Eigen::Index i) { return V3(V(i, 0), V(i, 1), V(i, 2)); };
+  V3 c = V3::Zero();
+  Eigen::Index m = 0;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (sel(i)) c += row(i), ++m;
+  if (m == 0) throw MeshError("PCA of an empty point set");
+  c /= static_cast<LD>(m);
+  M3 C = M3::Zero();
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (sel(i)) {
+      const V3 d = row(i) - c;
+      C.noalias() += d * d.transpose();
     }
+  C /= static_cast<LD>(m);
+  Eigen::SelfAdjointEigenSolver<M3> es(C);
+  M3 Q;
+  V3 lambda;
+  for (int k = 0; k < 3; ++k) {  // the solver sorts ascending; the axes go descending
+    Q.col(k) = es.eigenvectors().col(2 - k).normalized();
+    lambda[k] = std::max<LD>(0, es.eigenvalues()[2 - k]);
   }
-  const double side = (hi - lo).maxCoeff();
+  // Sign rule of pca.h (positive third central moment of the projections, then the farther extreme,
+  // then the largest component), on the extended-precision projections.
+  V3 m3 = V3::Zero(), pmin = V3::Zero(), pmax = V3::Zero();
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (sel(i)) {
+      const V3 p = Q.transpose() * (row(i) - c);
+      m3 += p.cwiseProduct(p).cwiseProduct(p);
+      pmin = pmin.cwiseMin(p), pmax = pmax.cwiseMax(p);
+    }
+  m3 /= static_cast<LD>(m);
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d q = Q.col(k).cast<double>();
+    Q.col(k) *= static_cast<LD>(pca_axis_sign(static_cast<double>(m3[k]), static_cast<double>(pmin[k]),
+                                              static_cast<double>(pmax[k]), static_cast<double>(lambda[k]), q));
+  }
+  Eigen::Matrix<LD, Eigen::Dynamic, 3> P(n, 3);
+  V3 lo = V3::Constant(std::numeric_limits<LD>::infinity()), hi = -lo;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const V3 p = Q.transpose() * (row(i) - c);  // PCA frame (§8.1.1)
+    P.row(i) = p.transpose();
+    if (sel(i)) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  }
+  const LD side = (hi - lo).maxCoeff();
   if (!(side > 0)) throw MeshError("all vertices coincide: the mesh cannot be scaled into the unit cube");
-  const Eigen::RowVector3d mid = 0.5 * (lo + hi).transpose();
-  for (Eigen::Index i = 0; i < n; ++i) X.row(i) = (X.row(i) - mid) / side + Eigen::RowVector3d::Constant(0.5);
+  const V3 mid = (lo + hi) / 2;
+  MatrixX3dR X(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) X(i, k) = static_cast<double>((P(i, k) - mid[k]) / side + 0.5L);
   return X;
 }
 

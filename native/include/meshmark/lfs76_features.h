@@ -6,7 +6,7 @@
 // Normalisation: the similarity of unit_cube_normalize.h taken from the original mesh and applied to
 // both meshes (the published preprocess.m normalises each mesh on its own with trans*V, the transpose
 // of the PCA projection: not rotation-invariant); norms and spherical coordinates about fixed centres
-// (bounding-box centre, centroid), never the min corner. 19 vectors x 4 log-moments (log(|d| + 1e-12),
+// (bounding-box centre, centroid), never the min corner. 19 vectors x 4 log-moments (log(|d| + 1e-7),
 // not the published 2^-52, which is below the rounding noise of the differences; mean, variance (N - 1), skewness, kurtosis (biased, non-excess)):
 //   1-12 |dx|, |dy|, |dz|; 13-16 | ||x - c|| - ||x' - c|| |, c = (0.5, 0.5, 0.5); 17-28 Laplacian
 //   (Kirchhoff, eq. 8.1.2) components; 29-32 | ||delta|| - ||delta'|| |; 33-36 face-normal angles;

@@ -10,7 +10,7 @@
 //   3. per face, the faces sharing a vertex with it (itself included), w_j = area_j / max area *
 //      exp(-3 ||c_j - c_f||) (bnvt_feat3);
 // c_j = centroid of face j. The eigenvalues lambda1 >= lambda2 >= lambda3 of each tensor on M and M',
-// |lambda_k - lambda_k'|: 9 vectors x 4 log-moments (log(|d| + 1e-12); the published eps = 2^-52 is below the
+// |lambda_k - lambda_k'|: 9 vectors x 4 log-moments (log(|d| + 1e-7); the published eps = 2^-52 is below the
 // eigen-solver noise) = 36. Faces without
 // an edge-neighbour (tensor 1) and degenerate faces are left out instead of turning the whole feature
 // into 0 as the published NaN rule does.

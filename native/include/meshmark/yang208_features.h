@@ -11,18 +11,19 @@
 //    |dx|, |dy|, |dz| and the length (Cartesian: ||x - x'||; Laplacian: | ||delta|| - ||delta'|| |,
 //    Fig. 8.1); then |theta - theta'| over the interior edges (dihedral angles, dihedral_angles.h)
 //    and the angle between the face normals of M and M' (faces non-degenerate in both).
-// 4. 8 statistics each (§8.1.4, feature_statistics.h): log_moments with floor 1e-12, then
+// 4. 8 statistics each (§8.1.4, feature_statistics.h): log_moments with floor 1e-7 (kFeatureLogFloor), then
 //    histogram_moments (Freedman-Diaconis bins). Feature 8j + s is statistic s of vector j.
 //
 // Faces must be triangles (callers triangulate polygons). Only vertices used by a face take part.
 // MeshError for fewer than 4 referenced vertices or no triangle ("too small for the features").
 #pragma once
+#include "meshmark/feature_statistics.h"
 #include "meshmark/mesh.h"
 
 namespace meshmark {
 
 constexpr int kYang208Size = 208;
-constexpr double kYang208LogFloor = 1e-12;
+constexpr double kYang208LogFloor = kFeatureLogFloor;  // feature_statistics.h
 
 Eigen::VectorXd yang208_features(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T);
 

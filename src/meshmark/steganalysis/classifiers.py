@@ -162,8 +162,10 @@ def _best_threshold(p0, p1):
 class FLDEnsemble:
     kind = "ensemble"
 
-    def __init__(self, n_learners: int = 51, d_sub: int | None = None, ridge: float = 1e-6, seed: int = 0):
+    def __init__(self, n_learners: int = 51, d_sub: int | None = None, ridge: float = 1e-6, seed: int = 0,
+                 search_learners: int = 15):
         self.n_learners = int(n_learners)
+        self.search_learners = int(search_learners)
         self.d_sub = d_sub
         self.ridge = float(ridge)
         self.seed = int(seed)
@@ -204,9 +206,9 @@ class FLDEnsemble:
         cap = max(1, min(d, 2 * n_min - 2))
         if self.d_sub:
             ds = int(min(self.d_sub, d))
-        else:  # the out-of-bag search of d_sub (Kodovský et al. §IV-B), on 15 learners per candidate
+        else:  # the out-of-bag search of d_sub (Kodovský et al. §IV-B), on search_learners learners per candidate
             grid = sorted({max(1, min(cap, int(round(d * f)))) for f in (0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0)})
-            L, self.n_learners = self.n_learners, min(self.n_learners, 15)
+            L, self.n_learners = self.n_learners, min(self.n_learners, self.search_learners)
             try:
                 errs = [self._train(Z, y, g, np.random.default_rng(self.seed))[3] for g in grid]
             finally:
@@ -225,7 +227,8 @@ class FLDEnsemble:
         return self.votes(X).mean(axis=1)
 
     def params(self):
-        return {"n_learners": self.n_learners, "d_sub": self.d_sub, "ridge": self.ridge, "seed": self.seed}
+        return {"n_learners": self.n_learners, "d_sub": self.d_sub, "ridge": self.ridge, "seed": self.seed,
+                "search_learners": self.search_learners}
 
     def arrays(self):
         return {**self.scaler.arrays("scaler_"), "subsets": self.subsets, "W": self.W, "b": self.b,

@@ -2,7 +2,7 @@
 versioned metadata (docs/steganalysis.md §4).
 
 File format (``.npz``, read with ``allow_pickle=False``): ``meta`` is a UTF-8 JSON document
-``{"format": "meshmark-steganalysis-model", "format_version": 1, "feature_set", "n_features",
+``{"format": "meshmark-steganalysis-model", "format_version": 2, "feature_set", "n_features",
 "classifier", "detectors": {name: {"kind", "params", "method"}}, "training": {"corpus_hash",
 "n_covers", "n_stego", "methods", ...}, "meshmark_version"}``; every other entry is an array named
 ``<detector>/<array>``. The universal detector is called ``universal``; the specific ones ``specific:<method>``.
@@ -23,7 +23,7 @@ from . import classifiers as clf
 from .features import feature_length, features as compute_features
 
 FORMAT = "meshmark-steganalysis-model"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: features with the 1e-7 log floor and the extended-precision frame (version-1 models read features that no longer exist)
 DEFAULT_MODEL = pathlib.Path(__file__).with_name("default_model.npz")
 
 

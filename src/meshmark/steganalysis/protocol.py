@@ -42,6 +42,19 @@ def _cho(kind, lo, hi):
     return embed
 
 
+def _fitting(embed, n):
+    """embed(n bits) with n reduced to what the framework's coding says fits ("at most N payload bits fit":
+    the capacity counts carriers before the check bits and the convolutional code)."""
+    import re
+    try:
+        return embed(n)
+    except MeshError as exc:
+        m = re.search(r"at most (\d+) payload bits fit", str(exc))
+        if not m or not 0 < int(m.group(1)) < n:
+            raise
+        return embed(int(m.group(1)))
+
+
 def _laplacian(thesis_exact):
     def embed(mesh, rng):
         from ..watermark import laplacian
@@ -50,8 +63,9 @@ def _laplacian(thesis_exact):
         if cap < 17:
             raise MeshError(f"laplacian: only {cap} carrier bits")
         bits = _bits(rng, min(32, cap - 16)).astype(np.uint8)  # the rest of the carriers: repetition
-        return laplacian.embed(mesh.V, mesh, payload=bits, key=f"k{rng.integers(1 << 30)}",
-                               thesis_exact=thesis_exact, **kw).V
+        key = f"k{rng.integers(1 << 30)}"
+        return _fitting(lambda n: laplacian.embed(mesh.V, mesh, payload=bits[:n], key=key, thesis_exact=thesis_exact,
+                                                  **kw).V, len(bits))
     return embed
 
 
@@ -60,7 +74,8 @@ def _framework(method):
         from ..watermark import framework
         cap = framework.capacity(mesh.V, mesh, method=method)
         bits = _bits(rng, max(1, min(32, cap - 16))).astype(np.uint8)
-        return framework.embed(mesh.V, mesh, payload=bits, key=f"k{rng.integers(1 << 30)}", method=method).V
+        key = f"k{rng.integers(1 << 30)}"
+        return _fitting(lambda n: framework.embed(mesh.V, mesh, payload=bits[:n], key=key, method=method).V, len(bits))
     return embed
 
 
@@ -126,6 +141,7 @@ def mesh_files(folders) -> list[pathlib.Path]:
 def build_dataset(paths, methods=None, feature_sets=("yang208",), seed: int = 0, log=None) -> dict:
     """Features of every cover and of one stego version per (cover, method).
 
+    ``paths``: mesh files, or ``(name, Mesh)`` pairs for meshes made in memory (augmented covers).
     Returns ``{"cover": (N,) int cover index, "method": (N,) str ("cover" or method), "path": list of
     cover paths, "X": {set: (N, d)}, "failed": [(path, method, reason)]}``. Covers that cannot be read
     or are too small for the features are skipped (listed in failed)."""
@@ -138,7 +154,7 @@ def build_dataset(paths, methods=None, feature_sets=("yang208",), seed: int = 0,
     t0 = time.perf_counter()
     for i, p in enumerate(paths):
         try:
-            mesh = read_mesh(p)
+            p, mesh = p if isinstance(p, tuple) else (p, read_mesh(p))
             fc = {s: compute_features(mesh, s) for s in feature_sets}
         except MeshError as exc:
             failed.append((str(p), "cover", str(exc)))
@@ -235,12 +251,23 @@ def one_thread():
     return threadpool_limits(1)
 
 
+#: How the universal detector is trained (its test side is always §8.2.2's: every test cover plus one stego
+#: version of a randomly chosen method). "pick": the thesis, one random stego version per training cover;
+#: "all": every stego version of every training cover (the FLD ensemble's threshold minimises the balanced
+#: P_E, so the 10:1 class ratio does not shift it); "max-specific": no universal model, the largest
+#: probability of the specific detectors (each trained on the same training covers).
+UNIVERSAL = ("pick", "all", "max-specific")
+
+
 def evaluate(ds, feature_set: str, classifier: str = "ensemble", n_splits: int = 30, test_fraction: float = 0.3,
-             seed: int = 0, methods=None, **params) -> list[dict]:
+             seed: int = 0, methods=None, universal: str = "pick", **params) -> list[dict]:
     """Run the split protocol: one row per (split, detector) with accuracy, TPR, FPR and P_E on the
-    test side. Detectors: ``specific:<method>`` for each method, and ``universal``."""
+    test side. Detectors: ``specific:<method>`` for each method, and ``universal`` (trained as
+    ``universal`` says: :data:`UNIVERSAL`)."""
+    if universal not in UNIVERSAL:
+        raise MeshError(f"universal must be one of {', '.join(UNIVERSAL)}, got {universal!r}")
     with one_thread():
-        return _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, methods, **params)
+        return _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, methods, universal, **params)
 
 
 def dataset_features(ds, feature_set: str) -> np.ndarray:
@@ -252,7 +279,7 @@ def dataset_features(ds, feature_set: str) -> np.ndarray:
     return np.hstack([ds["X"][p] for p in parts])
 
 
-def _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, methods, **params):
+def _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, methods, universal="pick", **params):
     X = dataset_features(ds, feature_set)
     meth = ds["method"]
     n_cov = int(ds["cover"].max()) + 1 if len(ds["cover"]) else 0
@@ -264,6 +291,9 @@ def _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, method
     rows = []
     for k, (tr, te) in enumerate(splits(n_cov, n_splits, test_fraction, seed)):
         trr, ter = tr[ds["cover"]], te[ds["cover"]]
+        rng = np.random.default_rng([seed, k])
+        a_u, b_u = _pick_universal(ds, tr, rng), _pick_universal(ds, te, rng)
+        p_max = np.zeros(len(b_u))
         for m in methods:
             sel = (meth == "cover") | (meth == m)
             a, b = sel & trr, sel & ter
@@ -271,12 +301,16 @@ def _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, method
             pred = model.predict_proba(X[b]) > 0.5
             rows.append({"split": k, "detector": f"specific:{m}", **_rates(meth[b] != "cover", pred),
                          "n_train": int(a.sum()), "n_test": int(b.sum())})
-        rng = np.random.default_rng([seed, k])
-        a, b = _pick_universal(ds, tr, rng), _pick_universal(ds, te, rng)
-        model = clf.make(classifier, **params).fit(X[a], meth[a] != "cover")
-        pred = model.predict_proba(X[b]) > 0.5
-        rows.append({"split": k, "detector": "universal", **_rates(meth[b] != "cover", pred),
-                     "n_train": int(len(a)), "n_test": int(len(b))})
+            if universal == "max-specific":
+                p_max = np.maximum(p_max, model.predict_proba(X[b_u]))
+        if universal == "max-specific":
+            pred, n_train = p_max > 0.5, int(trr.sum())
+        else:
+            a = np.flatnonzero(trr) if universal == "all" else a_u
+            model = clf.make(classifier, **params).fit(X[a], meth[a] != "cover")
+            pred, n_train = model.predict_proba(X[b_u]) > 0.5, int(len(a))
+        rows.append({"split": k, "detector": "universal", **_rates(meth[b_u] != "cover", pred),
+                     "n_train": n_train, "n_test": int(len(b_u))})
     return rows
 
 

@@ -19,6 +19,7 @@ submitted once more (``retries=1``); if it fails again it is reported, and the s
 """
 from __future__ import annotations
 
+import importlib
 import json
 import os
 import pathlib
@@ -262,11 +263,46 @@ def chunks_of(spec: Spec, keys, idx, todo_mask, size: int):
     return out
 
 
+#: Task kinds beyond the method x attack grid, chosen by a spec's top-level ``kind = "..."``:
+#: name -> "module:function", called as function(raw_spec_dict, out_path, base_path, log) -> Summary.
+TASK_KINDS = {"steganalysis": "meshmark.steganalysis.study:run_study"}
+
+
+def task_kind(spec):
+    """(runner, raw dict, base folder) when ``spec`` (path, TOML text or dict) names a registered ``kind``;
+    None for an ordinary grid spec. Register a kind by adding it to :data:`TASK_KINDS`."""
+    import tomllib
+    if isinstance(spec, Spec):
+        return None
+    base = pathlib.Path.cwd()
+    if isinstance(spec, dict):
+        raw = spec
+    else:
+        s = str(spec)
+        p = pathlib.Path(s) if "\n" not in s else None
+        try:
+            raw = tomllib.loads(p.read_text() if p is not None and p.is_file() else s)
+        except (tomllib.TOMLDecodeError, OSError):
+            return None  # load_spec reports it
+        if p is not None and p.is_file():
+            base = p.resolve().parent
+    kind = raw.get("kind")
+    if kind is None:
+        return None
+    if kind not in TASK_KINDS:
+        raise MeshError(f"study spec: unknown kind {kind!r} (known: {', '.join(sorted(TASK_KINDS))})")
+    mod, fn = TASK_KINDS[kind].split(":")
+    return getattr(importlib.import_module(mod), fn), raw, base
+
+
 def run(spec, out, *, workers: int | None = None, dask: str | None = None, progress: bool | None = None,
         retries: int = 1, ship_meshes: bool = False, chunk_size: int | None = None, log=None,
         max_tasks: int | None = None) -> Summary:
     """Run (or resume) the study ``spec`` (path, TOML text, dict or Spec) with results under ``out``."""
     log = log or (lambda s: print(s, file=sys.stderr, flush=True))
+    kind = task_kind(spec)
+    if kind is not None:
+        return kind[0](kind[1], pathlib.Path(out), kind[2], log)
     load_plugins()
     t0 = time.perf_counter()
     sp = spec if isinstance(spec, Spec) else load_spec(spec)
