@@ -148,6 +148,8 @@ class MESHMARK_OT_stego_extract(_Base, bpy.types.Operator):
         t_native = time.perf_counter() - t0
         result = {"ok": True, "object": obj.name, "found": got.found, "reason": got.reason, "tolerance": tol,
                   "spread": spread, "seconds_native": t_native}
+        if not got.found and got.reason in ("too few LSB slots", "carrier too small"):
+            raise MeshError(f"mesh too small to hold hidden data ({mesh.n_vertices} vertices)")
         if not got.found:
             return self.finish(context, result, "WARNING",
                                f"meshmark: nothing hidden found in '{obj.name}' with this key and settings")
@@ -231,7 +233,7 @@ class MESHMARK_OT_analyze(_Base, bpy.types.Operator):
         a = analyze_mesh(mesh, float(tol), adaptive)
         t_native = time.perf_counter() - t0
         lv, dk = a["levels"], a["curvature_change"]
-        ref = mesh.referenced()
+        ref = mesh.referenced().astype(bool)
         lo, hi = (int(lv[ref].min()), int(lv[ref].max())) if ref.any() else (0, 0)
         dpos = dk[ref & (dk > 0)]
         clo, chi = (float(np.log10(dpos.min())), float(np.log10(dpos.max()))) if dpos.size else (0.0, 0.0)
