@@ -152,7 +152,7 @@ def _stego_lines(d):
 
 def _reveal_lines(d):
     if not d["found"]:
-        return [("Nothing found with this key", "CANCEL")]
+        return [("Nothing found", "CANCEL"), ("Check key and settings", "NONE")]
     out = [(f"Found {d['bytes']} bytes", "CHECKMARK")]
     if d.get("text") is not None:
         out.append((f"Text: {d['text'][:200]}", "NONE"))
