@@ -170,13 +170,15 @@ def _analysis_lines(d):
 def _detect_lines(d):
     out = [(f"Hidden data: {100 * d['probability']:.0f}%", "ERROR" if d["marked"] else "CHECKMARK")]
     for m, p in list(d["methods"].items())[:3]:
-        out.append((f"{m}: {100 * p:.0f}%", "NONE"))
+        base, _, variant = m.partition(":")
+        label = _params.method_label(base) + (" (auto)" if variant else "")
+        out.append((f"{100 * p:.0f}% {label}", "NONE"))
     return out
 
 
 def _study_lines(d):
     s = d.get("summary") or {}
-    return [(f"Done: {s.get('ok', 0)} of {d.get('planned', 0)} tasks ok", "CHECKMARK"),
+    return [(f"{s.get('ok', 0)} of {d.get('planned', 0)} tasks ok", "CHECKMARK"),
             (f"Results in {d['output_dir']}", "NONE")]
 
 
