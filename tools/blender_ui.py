@@ -192,8 +192,15 @@ def steps():
     yield
     snapshot("study", result=sorted(r_study), summary=study.get("summary"))
 
+    # the selection changes: the arm's result is not shown for the camera
+    rigs.select_only(bpy.data.objects["Camera"])
+    redraw()
+    yield
+    snapshot("camera_selected", last_result_object=json.loads(s.last_result).get("object"))
+
     # the new sub-panels, one at a time: Steganography (Hide, Reveal), Analysis (the heat map),
     # Steganalysis (Check), Study (a spec run in the background: the modal operator's progress)
+    rigs.select_only(arm)
     SHOW["only"] = "Steganography"
     s.stego_source, s.stego_text = "TEXT", "Hello from the sidebar"
     with ui_override():
@@ -250,12 +257,6 @@ def steps():
     done = json.loads(s.last_result)
     snapshot("study_spec", last_result=done)
     SHOW["only"] = None
-
-    # the selection changes: the arm's result is not shown for the camera
-    rigs.select_only(bpy.data.objects["Camera"])
-    redraw()
-    yield
-    snapshot("camera_selected", last_result_object=json.loads(s.last_result).get("object"))
 
     # a cube: Embed reports in the user's words, in the panel and the report
     bpy.ops.mesh.primitive_cube_add(location=(3, 0, 0))
