@@ -44,7 +44,7 @@ def main(spec_path, out):
     t = threading.Thread(target=poll, daemon=True)
     t.start()
     try:
-        s = engine.run(sp, out, workers=1, progress=False, log=lambda text: say(log=text))
+        s = engine.run(sp, out, workers=0, progress=False, log=lambda text: say(log=text))
     except MeshError as exc:
         say(error=str(exc))
         return 2
