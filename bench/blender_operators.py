@@ -1,4 +1,5 @@
-"""Time of the add-on's operators (embed, verify, capacity, deformation study) against the native
+"""Time of the add-on's operators (embed, verify, capacity, deformation study; stego_embed, stego_extract,
+analyze, steganalysis_detect, study with --new or after the others) against the native
 calls they wrap, on a mesh of >= 100k vertices (a jittered 128 x 800 tube, 102,402 vertices), in the
 same process; and the time of one draw of every Meshmark panel.
 
@@ -40,6 +41,7 @@ def best(f, n):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--new", action="store_true", help="only the steganography/analysis/steganalysis/study operators")
     a = ap.parse_args()
     meshmark_blender.register()
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -49,6 +51,8 @@ def main():
     obj = rigs.mesh_object("Tube", mesh=m)
     V0 = rigs.base_coords(obj).copy()
     base = m.with_vertices(V0.astype(np.float64))
+    if a.new:
+        return bench_new(obj, m, a.repeat)
     kf = os.path.join(tempfile.mkdtemp(), "k.json")
     kw = dict(message="mark", key="k")
 
@@ -103,6 +107,77 @@ def main():
     print(f"study: Blender's frame evaluation {t_frames:.3f}s, the plot (matplotlib) {t_plot:.3f}s; the rest of "
           f"the overhead {t_op_s - t_nat_s - t_frames - t_plot:.3f}s")
     print(f"one draw of every Meshmark panel (102k vertices: capacity on request): {t_draw * 1000:.1f} ms")
+    obj.modifiers.remove(mod)
+    bench_new(obj, m, a.repeat)
+
+
+def bench_new(obj, m, repeat):
+    """The steganography, analysis, steganalysis and study operators against their native calls."""
+    from meshmark import stego
+    from meshmark.steganalysis.model import Model
+    from meshmark.study import engine
+    from meshmark_blender import bridge, hiding_ops
+    rigs.select_only(obj)
+    V0 = rigs.base_coords(obj).copy()
+    base = bridge.base_mesh(obj)
+    text = "meshmark bench " * 4
+
+    def op_hide():
+        obj.data.vertices.foreach_set("co", V0.ravel())
+        obj.data.update()
+        bpy.ops.meshmark.stego_embed(text=text, key="k")
+    t_op_h = best(op_hide, repeat)
+    marked = bridge.base_mesh(obj)
+    t_nat_h = best(lambda: stego.embed(base, text, "k", precision="float32"), repeat)
+    t_nat_x = best(lambda: stego.extract(marked, "k", precision="float32"), repeat)
+    t_op_x = best(lambda: bpy.ops.meshmark.stego_extract(key="k"), repeat)
+    assert rigs.last_result()["text"] == text
+    t_op_a = best(lambda: bpy.ops.meshmark.analyze(), repeat)
+    t_nat_a = best(lambda: hiding_ops.analyze_mesh(marked, 0.1, True), repeat)
+    r_a = rigs.last_result()
+    model = Model.load()
+    bpy.ops.meshmark.steganalysis_detect()  # loads (and caches) the model once
+    t_op_d = best(lambda: bpy.ops.meshmark.steganalysis_detect(), repeat)
+    t_nat_d = best(lambda: model.detect(marked), repeat)
+    spec = os.path.join(tempfile.mkdtemp(), "s.toml")
+    with open(spec, "w") as f:
+        f.write(STUDY.replace("MESH", rigs.shared_mesh("classic/fandisk.obj")))
+    t_op_s = best(lambda: bpy.ops.meshmark.study(spec=spec, output_dir=tempfile.mkdtemp()), repeat)
+    assert rigs.last_result()["summary"]["ok"] == 12, rigs.last_result()
+    # the same run in this process (workers=0, as the runner does in its own process)
+    t_nat_s = best(lambda: engine.run(spec, tempfile.mkdtemp(), workers=0, progress=False, log=lambda t: None), repeat)
+    print(f"\nmesh: {m.n_vertices:,} vertices; analyze: levels {r_a['level_min']}..{r_a['level_max']}")
+    print(f"{'':30}{'operator':>10}{'native':>10}{'overhead':>10}")
+    rows = (("stego_embed (embed)", t_op_h, t_nat_h), ("stego_embed (embed + check)", t_op_h, t_nat_h + t_nat_x),
+            ("stego_extract", t_op_x, t_nat_x), ("analyze (heat map)", t_op_a, t_nat_a),
+            ("steganalysis_detect", t_op_d, t_nat_d), ("study (12 tasks, subprocess)", t_op_s, t_nat_s))
+    for name, op, nat in rows:
+        print(f"{name:30}{op:9.3f}s{nat:9.3f}s{op - nat:9.3f}s")
+    print(f"analyze in all: {t_op_a:.3f}s (target <= 0.5 s)")
+
+
+STUDY = """
+[study]
+name = "bench"
+seeds = [0, 1, 2]
+payload_bits = 8
+[meshes]
+paths = ["MESH"]
+[[methods]]
+name = "cho-mean"
+[[attacks]]
+name = "none"
+[[attacks]]
+name = "noise"
+grid = { strength = [0.001] }
+[[attacks]]
+name = "smooth"
+grid = { iterations = [5] }
+[[attacks]]
+name = "reorder"
+[measurements]
+list = ["nc", "detection"]
+"""
 
 
 def _evaluated(obj):

@@ -42,14 +42,18 @@ def _no_truncation(drawn):
 def test_panels_draw_with_and_without_a_mesh(addon):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     from meshmark_blender import panels
-    # Watermark, Trace copies (meshmark.issue_copies / meshmark.trace are registered) and Study
-    assert [c.bl_label for c in panels._registered] == ["Meshmark", "Watermark", "Trace copies", "Study"]
+    # Watermark, Trace copies (meshmark.issue_copies / meshmark.trace are registered), Steganography,
+    # Analysis, Steganalysis and Study
+    assert [c.bl_label for c in panels._registered] == ["Meshmark", "Watermark", "Trace copies", "Steganography",
+                                                        "Analysis", "Steganalysis", "Study"]
     assert panels.MESHMARK_PT_trace.needs == ("meshmark.issue_copies", "meshmark.trace")
     assert all(c.bl_parent_id == "MESHMARK_PT_sidebar" for c in panels.SUBPANELS)
     d = _draw(bpy.context)
     assert "Select a mesh object" in _texts({"m": d["Meshmark"]})
     assert _ops(d) == ["meshmark.load_keyfile", "meshmark.save_keyfile", "meshmark.capacity", "meshmark.embed",
-                       "meshmark.verify", "meshmark.issue_copies", "meshmark.trace", "meshmark.deformation_study"]
+                       "meshmark.verify", "meshmark.issue_copies", "meshmark.trace", "meshmark.stego_embed",
+                       "meshmark.stego_extract", "meshmark.analyze", "meshmark.steganalysis_detect",
+                       "meshmark.deformation_study", "meshmark.study"]
     props = [i.detail for items in d.values() for i in items if i.kind == "prop"]
     assert props.count("keyfile") == 1  # one keyfile field
     assert {"method", "message", "key", "evaluated", "show_advanced", "frame_start", "output_dir"} <= set(props)

@@ -48,7 +48,8 @@ def test_panel_in_a_blender_34_window(tmp_path):
     pp.mkdir()
     os.symlink(os.path.dirname(meshmark.__file__), pp / "meshmark")
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
-    env.update(PYTHONPATH=str(pp), BLENDER_USER_SCRIPTS=str(tmp_path / "user"))
+    env.update(PYTHONPATH=str(pp), BLENDER_USER_SCRIPTS=str(tmp_path / "user"),
+               MESHMARK_PYTHON=sys.executable)  # the study runs in this Python (pyarrow)
     out = tmp_path / "ui.json"
     shots = tmp_path / "shots"
     shots.mkdir()
@@ -71,7 +72,7 @@ def test_panel_in_a_blender_34_window(tmp_path):
     # the tab opened (by clicks on it) at the default sidebar width, and the UI drew every panel
     opened = steps["open"]
     assert opened["region"][2] == 229 and r["tab_clicks"] < 80
-    assert set(opened["panels"]) == {"Meshmark", "Watermark", "Trace copies", "Study"}
+    assert {"Meshmark", "Watermark", "Trace copies", "Steganography"} <= set(opened["panels"])
     for s in steps.values():
         for name, d in s["panels"].items():
             assert d["count"] >= 1 and d["region_width"] == 229, (s["step"], name)
@@ -97,6 +98,25 @@ def test_panel_in_a_blender_34_window(tmp_path):
     assert study["result"] == ["FINISHED"] and study["summary"]["detected_frames"] == 5
     assert study["summary"]["max_disp_rel"] > 0.1  # the arm did bend
     assert "Found on 5/5 frames" in [i[1] for i in study["panels"]["Study"]["items"]]
+
+    # the new sub-panels, each pressed through the UI context, each with its screenshot
+    st = steps["stego"]
+    assert (st["hide"], st["reveal"], st["read_back"], st["text"]) == (["FINISHED"], ["FINISHED"], True,
+                                                                      "Hello from the sidebar")
+    assert set(st["panels"]) == {"Meshmark", "Steganography"}
+    assert {"Found 22 bytes", "Text: Hello from the"} <= {i[1] for i in st["panels"]["Steganography"]["items"]}
+    an = steps["analysis"]
+    assert an["result"] == ["FINISHED"] and an["active_color"] == "Meshmark precision"
+    assert f"Bits needed: {an['level_min']} to {an['level_max']}" in [i[1] for i in an["panels"]["Analysis"]["items"]]
+    det = steps["steganalysis"]
+    assert det["result"] == ["FINISHED"] and 0.0 <= det["probability"] <= 1.0
+    assert any(i[1].startswith("Hidden data: ") for i in det["panels"]["Steganalysis"]["items"])
+    run = steps["study_running"]
+    assert run["result"] == ["RUNNING_MODAL"] and run["running"] is True  # the UI went on drawing
+    assert "Esc stops the study" in [i[1] for i in run["panels"]["Study"]["items"]]
+    done = steps["study_spec"]["last_result"]
+    assert done["ok"] and done["operator"] == "meshmark.study" and done["summary"]["ok"] == done["planned"] == 12
+    assert any(i[1] == "12 of 12 tasks ok" for i in steps["study_spec"]["panels"]["Study"]["items"])
 
     # another selection: the arm's result is not shown for the camera
     cam = steps["camera_selected"]

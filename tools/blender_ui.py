@@ -61,6 +61,7 @@ def ui_override():
 
 # -- recording the panels' draws ------------------------------------------------------------------------
 DRAWN = {}  # panel bl_label -> {"count", "items", "truncated", "width"}
+SHOW = {"only": None}  # a sub-panel's label: only it is shown (its screenshot), None: all
 
 
 def record_draws(panels_mod, ui_layout):
@@ -78,8 +79,13 @@ def record_draws(panels_mod, ui_layout):
                      truncated=ui_layout.truncated(items))
         return draw
 
+    def poll(cls, context):  # one sub-panel at a time for its screenshot (the sidebar is not tall enough)
+        return SHOW["only"] is None or cls.bl_label == SHOW["only"]
+
     for cls in [panels_mod.MESHMARK_PT_sidebar, *panels_mod.SUBPANELS]:
         cls.draw = wrapper(cls, cls.draw)
+        if cls is not panels_mod.MESHMARK_PT_sidebar:
+            cls.poll = classmethod(poll)
     panels_mod.register()
 
 
@@ -192,6 +198,66 @@ def steps():
     yield
     snapshot("camera_selected", last_result_object=json.loads(s.last_result).get("object"))
 
+    # the new sub-panels, one at a time: Steganography (Hide, Reveal), Analysis (the heat map),
+    # Steganalysis (Check), Study (a spec run in the background: the modal operator's progress)
+    rigs.select_only(arm)
+    SHOW["only"] = "Steganography"
+    s.stego_source, s.stego_text = "TEXT", "Hello from the sidebar"
+    with ui_override():
+        r_hide = bpy.ops.meshmark.stego_embed("INVOKE_DEFAULT", True)
+        hide = json.loads(s.last_result)
+        r_reveal = bpy.ops.meshmark.stego_extract("INVOKE_DEFAULT", True)
+        reveal = json.loads(s.last_result)
+    redraw()
+    yield
+    snapshot("stego", hide=sorted(r_hide), reveal=sorted(r_reveal), read_back=hide.get("read_back"),
+             text=reveal.get("text"))
+
+    SHOW["only"] = "Analysis"
+    with ui_override():
+        r_an = bpy.ops.meshmark.analyze("INVOKE_DEFAULT", True)
+        an = json.loads(s.last_result)
+    area.spaces[0].shading.type = "SOLID"
+    sh = area.spaces[0].shading  # "Attribute" colouring: VERTEX in 3.4, ATTRIBUTE in 4+
+    sh.color_type = "ATTRIBUTE" if "ATTRIBUTE" in {e.identifier for e in sh.bl_rna.properties["color_type"].enum_items} else "VERTEX"
+    redraw()
+    yield
+    snapshot("analysis", result=sorted(r_an), level_min=an.get("level_min"), level_max=an.get("level_max"),
+             active_color=arm.data.color_attributes.active_color.name)
+    win, area, region = ui()
+    snapshot("analysis_viewport", window=win)
+
+    SHOW["only"] = "Steganalysis"
+    with ui_override():
+        r_det = bpy.ops.meshmark.steganalysis_detect("INVOKE_DEFAULT", True)
+        det = json.loads(s.last_result)
+    redraw()
+    yield
+    snapshot("steganalysis", result=sorted(r_det), probability=det.get("probability"))
+
+    SHOW["only"] = "Study"
+    spec = os.path.join(TMP, "study.toml")
+    with open(spec, "w") as f:
+        f.write(STUDY_SPEC.replace("MESH", rigs.shared_mesh("classic/fandisk.obj")))
+    s.study_spec, s.study_out = spec, os.path.join(TMP, "study_out")
+    from meshmark_blender import study_ops
+    with ui_override():
+        r_run = bpy.ops.meshmark.study("INVOKE_DEFAULT", True)
+    redraw()
+    yield
+    running = study_ops.STATE["running"] is not None
+    snapshot("study_running", result=sorted(r_run), running=running, progress=s.study_progress)
+    for _ in range(400):  # the UI keeps drawing while the study runs
+        if study_ops.STATE["running"] is None:
+            break
+        redraw()
+        yield
+    redraw()
+    yield
+    done = json.loads(s.last_result)
+    snapshot("study_spec", last_result=done)
+    SHOW["only"] = None
+
     # a cube: Embed reports in the user's words, in the panel and the report
     bpy.ops.mesh.primitive_cube_add(location=(3, 0, 0))
     cube = bpy.context.active_object
@@ -234,6 +300,25 @@ def steps():
     win.event_simulate(type="ESC", value="PRESS")
     win.event_simulate(type="ESC", value="RELEASE")
     yield
+
+
+STUDY_SPEC = """
+[study]
+name = "ui"
+seeds = [0, 1, 2]
+payload_bits = 8
+[meshes]
+paths = ["MESH"]
+[[methods]]
+name = "cho-mean"
+[[attacks]]
+name = "none"
+[[attacks]]
+name = "noise"
+grid = { strength = [0.001, 0.002, 0.003] }
+[measurements]
+list = ["nc", "detection"]
+"""
 
 
 def main():

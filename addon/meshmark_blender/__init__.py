@@ -24,7 +24,7 @@ bl_info = {
 
 if "bpy" in locals():  # "Reload Scripts": reload the submodules too
     import importlib
-    for _m in ("bridge", "study", "params", "messages", "properties", "operators", "tracing_ops", "panels"):
+    for _m in ("bridge", "study", "params", "messages", "properties", "operators", "tracing_ops", "hiding_ops", "study_ops", "panels"):
         if _m in locals():
             importlib.reload(locals()[_m])
 

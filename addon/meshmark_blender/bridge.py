@@ -111,3 +111,42 @@ def apply_displacement(obj, D: np.ndarray) -> None:
 
 def bbox_diagonal(V: np.ndarray) -> float:
     return float(np.linalg.norm(V.max(0) - V.min(0))) if len(V) else 0.0
+
+
+def coordinate_targets(me) -> list:
+    """Every coordinate array of a mesh: the vertices, then each shape key's (in order)."""
+    return [me.vertices] + ([kb.data for kb in me.shape_keys.key_blocks] if me.shape_keys is not None else [])
+
+
+def snapshot_coords(me) -> list:
+    """Copies (float32) of every coordinate array of ``me``, for :func:`restore_coords`."""
+    n = len(me.vertices)
+    return [_coords(c, n).copy() for c in coordinate_targets(me)]
+
+
+def restore_coords(obj, saved: list) -> None:
+    """Put back what :func:`snapshot_coords` took: the mesh is bit-identical afterwards."""
+    me = obj.data
+    for coll, co in zip(coordinate_targets(me), saved):
+        coll.foreach_set("co", co.ravel())
+    me.update()
+    obj.update_tag()
+
+
+def write_base_exact(obj, V32: np.ndarray) -> None:
+    """Set the base mesh to the float32 positions ``V32`` exactly (the vertices and the Basis key);
+    other shape keys keep their offset from the Basis (rounded to float32)."""
+    me = obj.data
+    n = len(me.vertices)
+    V32 = np.ascontiguousarray(V32, np.float32).reshape(n, 3)
+    ref = me.shape_keys.reference_key if me.shape_keys is not None else None
+    old = base_coords(me).astype(np.float64)
+    if me.shape_keys is not None:
+        for kb in me.shape_keys.key_blocks:
+            if kb != ref:
+                co = _coords(kb.data, n).astype(np.float64)
+                kb.data.foreach_set("co", (co - old + V32).astype(np.float32).ravel())
+        ref.data.foreach_set("co", V32.ravel())
+    me.vertices.foreach_set("co", V32.ravel())
+    me.update()
+    obj.update_tag()

@@ -14,6 +14,7 @@ from meshmark.watermark.payload import MAX_DATA_BITS
 from . import params as _params
 
 TOO_SMALL = "mesh too small to carry a mark"
+TOO_SMALL_HIDE = "mesh too small to hide anything"
 MORE_ROOM = "under Advanced > Custom, lower Min. pair size or raise Bins"
 
 
@@ -69,4 +70,16 @@ def friendly(text: str, method: str | None = None) -> str:
     if m:
         return (f"the mark does not hold on this mesh ({m.group(1)} of {m.group(2)} bits would read back wrong "
                 f"with {_rename(m.group(3), method)}); nothing was changed. Try other settings under Advanced")
+    m = re.search(r"message of (\d+) bytes needs \d+ bits .* \(at most (\d+) message bytes\) at tolerance", text)
+    if m:  # meshmark.stego
+        if int(m.group(2)) == 0:
+            return (f"{TOO_SMALL_HIDE}: not even one byte fits (add detail, e.g. subdivide, or raise Shading "
+                    "change under Advanced)")
+        return (f"too much to hide: {m.group(1)} bytes, at most {m.group(2)} bytes fit in this mesh. Hide less, "
+                "or raise Shading change under Advanced")
+    if "mesh has no faces" in text or text.startswith("empty mesh"):
+        return f"{TOO_SMALL_HIDE}: it has no faces"
+    m = re.search(r"the mesh has (\d+) vertices?.*(?:too small|at least)", text)
+    if m:
+        return f"mesh too small: {m.group(1)} vertices"
     return _rename(text, method)

@@ -536,12 +536,16 @@ def register():
         _add_method_params(c)
     for c in classes:
         bpy.utils.register_class(c)
-    from . import tracing_ops
+    from . import hiding_ops, study_ops, tracing_ops
     tracing_ops.register()
+    hiding_ops.register()
+    study_ops.register()
 
 
 def unregister():
-    from . import tracing_ops
+    from . import hiding_ops, study_ops, tracing_ops
+    study_ops.unregister()
+    hiding_ops.unregister()
     tracing_ops.unregister()
     for c in reversed(classes):
         bpy.utils.unregister_class(c)

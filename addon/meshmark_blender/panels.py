@@ -7,9 +7,10 @@ task, each a class listed once in :data:`SUBPANELS`. A sub-panel whose operators
 * Watermark (embed, verify, capacity) with its "Advanced" fold (``scene.meshmark.show_advanced``;
   settings Auto or Custom, only the chosen method's, plus welding);
 * Trace copies (``meshmark.issue_copies`` / ``meshmark.trace``, not in this version);
-* Study (the deformation study).
-
-Steganography, Analysis and Steganalysis go in as one class each, added to SUBPANELS.
+* Steganography (``meshmark.stego_embed`` / ``stego_extract``), Analysis (``meshmark.analyze``, the
+  heat maps), Steganalysis (``meshmark.steganalysis_detect``), each with its "Advanced" fold where
+  it has settings (Auto by default);
+* Study (the deformation study, and ``meshmark.study``: a study spec run in the background).
 
 Every text fits the default sidebar width: fields are drawn as a label column and a value column
 (:func:`field`), long texts (results, errors) are wrapped to the region's width (:func:`wrapped`),
@@ -98,8 +99,9 @@ def field(layout, data, prop: str, label: str | None = None):
 
 
 # -- results -----------------------------------------------------------------------------------------
-def tied_result(context, operators_: tuple) -> dict | None:
-    """``scene.meshmark.last_result`` if one of ``operators_`` made it about the active object."""
+def tied_result(context, operators_: tuple, per_object: bool = True) -> dict | None:
+    """``scene.meshmark.last_result`` if one of ``operators_`` made it about the active object (any
+    result of theirs if not ``per_object``: a study is about files, not an object)."""
     text = context.scene.meshmark.last_result
     if not text:
         return None
@@ -109,7 +111,7 @@ def tied_result(context, operators_: tuple) -> dict | None:
         return None
     obj = context.active_object
     active = obj.name if obj is not None else None
-    if operators.operator_id(d.get("operator", "")) not in operators_ or d.get("object") != active:
+    if operators.operator_id(d.get("operator", "")) not in operators_ or (per_object and d.get("object") != active):
         return None  # another object's (or another task's) result: stale here
     return d
 
@@ -118,6 +120,9 @@ def result_lines(d: dict) -> list:
     """(text, icon) lines of a result for the result box."""
     if not d.get("ok", True):
         return [(d.get("error", "error"), "ERROR")]
+    special = RESULT_LINES.get(operators.operator_id(d.get("operator", "")))
+    if special is not None:
+        return special(d)
     if "p_false_alarm" in d and "copy" in d:  # meshmark.trace
         return [(f"Copy {d['copy']}" if d["copy"] else "No issued copy", "CHECKMARK" if d["copy"] else "CANCEL"),
                 (f"P(false alarm) {d['p_false_alarm']:.2g}", "NONE")]
@@ -139,6 +144,47 @@ def result_lines(d: dict) -> list:
         return [("Marked" if ok else "Marked, but not every bit reads back", "CHECKMARK" if ok else "ERROR"),
                 (f"{d['capacity']} bits in the mesh", "NONE")]
     return []
+
+
+def _stego_lines(d):
+    return [(f"Hidden: {d['bytes']} bytes", "CHECKMARK"), (f"Room for {d['max_bytes']} bytes", "NONE")]
+
+
+def _reveal_lines(d):
+    if not d["found"]:
+        return [("Nothing found", "CANCEL"), ("Check key and settings", "NONE")]
+    out = [(f"Found {d['bytes']} bytes", "CHECKMARK")]
+    if d.get("text") is not None:
+        out.append((f"Text: {d['text'][:200]}", "NONE"))
+    if d.get("saved"):
+        out.append((f"Saved to {d['saved']}", "NONE"))
+    return out
+
+
+def _analysis_lines(d):
+    return [(f"Bits needed: {d['level_min']} to {d['level_max']}", "COLOR"),
+            (f"Mean {d['level_mean']:.1f} bits", "NONE"),
+            (f"Curvature change {d['curvature_change_mean']:.1e}", "NONE")]
+
+
+def _detect_lines(d):
+    out = [(f"Hidden data: {100 * d['probability']:.0f}%", "ERROR" if d["marked"] else "CHECKMARK")]
+    for m, p in list(d["methods"].items())[:3]:
+        base, _, variant = m.partition(":")
+        label = _params.method_label(base) + (" (auto)" if variant else "")
+        out.append((f"{100 * p:.0f}% {label}", "NONE"))
+    return out
+
+
+def _study_lines(d):
+    s = d.get("summary") or {}
+    return [(f"{s.get('ok', 0)} of {d.get('planned', 0)} tasks ok", "CHECKMARK"),
+            (f"Results in {d['output_dir']}", "NONE")]
+
+
+RESULT_LINES = {"meshmark.stego_embed": _stego_lines, "meshmark.stego_extract": _reveal_lines,
+                "meshmark.analyze": _analysis_lines, "meshmark.steganalysis_detect": _detect_lines,
+                "meshmark.study": _study_lines}
 
 
 def draw_result(layout, context, d: dict | None) -> None:
@@ -296,8 +342,92 @@ class MESHMARK_PT_trace(_Sidebar, bpy.types.Panel):
         draw_result(self.layout, context, tied_result(context, self.needs))
 
 
+def fold(layout, s, prop: str) -> bool:
+    """The "Advanced" disclosure row; True when open."""
+    row = layout.row()
+    row.alignment = "LEFT"
+    row.prop(s, prop, icon="TRIA_DOWN" if getattr(s, prop) else "TRIA_RIGHT", emboss=False)
+    return getattr(s, prop)
+
+
+class MESHMARK_PT_stego(_Sidebar, bpy.types.Panel):
+    """Hide a text or a file in the mesh, readable only with the key"""
+    bl_idname = "MESHMARK_PT_stego"
+    bl_label = "Steganography"
+    bl_parent_id = "MESHMARK_PT_sidebar"
+    bl_order = 2
+    needs = ("meshmark.stego_embed", "meshmark.stego_extract")
+
+    def draw(self, context):
+        layout = self.layout
+        s = context.scene.meshmark
+        layout.row().prop(s, "stego_source", expand=True)
+        col = layout.column()
+        if s.stego_source == "TEXT":
+            field(col, s, "stego_text")
+        else:
+            field(col, s, "stego_file")
+        field(col, s, "key")
+        row = layout.row(align=True)
+        row.operator("meshmark.stego_embed", text="Hide", icon="HIDE_ON")
+        row.operator("meshmark.stego_extract", text="Reveal", icon="HIDE_OFF")
+        draw_result(layout, context, tied_result(context, self.needs))
+        if fold(layout, s, "stego_show_advanced"):
+            box = layout.box()
+            box.row().prop(s, "stego_mode", expand=True)
+            if s.stego_mode == "AUTO":
+                box.label(text=f"Shading change {properties.STEGO_TOLERANCE:g} deg")
+                box.label(text="Spread: Even")
+            else:
+                col = box.column(align=True)
+                col.prop(s, "stego_tolerance", text="Shading")
+                field(col, s, "stego_spread")
+            field(box, s, "stego_save")
+
+
+class MESHMARK_PT_analysis(_Sidebar, bpy.types.Panel):
+    """Colour the mesh by the precision each vertex needs and how rounding moves its curvature"""
+    bl_idname = "MESHMARK_PT_analysis"
+    bl_label = "Analysis"
+    bl_parent_id = "MESHMARK_PT_sidebar"
+    bl_order = 3
+    needs = ("meshmark.analyze",)
+
+    def draw(self, context):
+        layout = self.layout
+        s = context.scene.meshmark
+        field(layout, s, "analysis_show")
+        layout.operator("meshmark.analyze", text="Analyze", icon="COLOR")
+        draw_result(layout, context, tied_result(context, self.needs))
+        if fold(layout, s, "analysis_show_advanced"):
+            box = layout.box()
+            box.row().prop(s, "analysis_mode", expand=True)
+            if s.analysis_mode == "AUTO":
+                box.label(text=f"Shading change {properties.ANALYSIS_TOLERANCE:g} deg")
+            else:
+                box.prop(s, "analysis_tolerance", text="Shading")
+
+
+class MESHMARK_PT_steganalysis(_Sidebar, bpy.types.Panel):
+    """How likely it is that the mesh hides something"""
+    bl_idname = "MESHMARK_PT_steganalysis"
+    bl_label = "Steganalysis"
+    bl_parent_id = "MESHMARK_PT_sidebar"
+    bl_order = 4
+    needs = ("meshmark.steganalysis_detect",)
+
+    def draw(self, context):
+        layout = self.layout
+        s = context.scene.meshmark
+        field(layout, s, "model_source")
+        if s.model_source == "FILE":
+            field(layout, s, "model_file")
+        layout.operator("meshmark.steganalysis_detect", text="Check", icon="VIEWZOOM")
+        draw_result(layout, context, tied_result(context, self.needs))
+
+
 class MESHMARK_PT_study(_Sidebar, bpy.types.Panel):
-    """Check the mark on every n-th frame of the animation; write a table and a plot"""
+    """Check the mark on every n-th frame of the animation; run a study spec in the background"""
     bl_idname = "MESHMARK_PT_study"
     bl_label = "Study"
     bl_parent_id = "MESHMARK_PT_sidebar"
@@ -312,12 +442,25 @@ class MESHMARK_PT_study(_Sidebar, bpy.types.Panel):
         col.prop(s, "frame_end")
         col.prop(s, "frame_step")
         field(layout, s, "output_dir")
-        layout.operator("meshmark.deformation_study", text="Run study", icon="GRAPH")
+        layout.operator("meshmark.deformation_study", text="Check frames", icon="GRAPH")
         draw_result(layout, context, tied_result(context, self.needs))
+        if not _operator_registered("meshmark.study"):
+            return
+        layout.separator()
+        field(layout, s, "study_spec")
+        field(layout, s, "study_out")
+        from . import study_ops
+        if study_ops.STATE["running"] is not None:
+            layout.prop(s, "study_progress", slider=True)
+            layout.label(text="Esc stops the study", icon="INFO")
+        else:
+            layout.operator("meshmark.study", text="Run study", icon="PLAY")
+        draw_result(layout, context, tied_result(context, ("meshmark.study",), per_object=False))
 
 
-# Every sub-panel, in one place (Steganography, Analysis, Steganalysis: one class each, added here).
-SUBPANELS = (MESHMARK_PT_watermark, MESHMARK_PT_trace, MESHMARK_PT_study)
+# Every sub-panel, in one place.
+SUBPANELS = (MESHMARK_PT_watermark, MESHMARK_PT_trace, MESHMARK_PT_stego, MESHMARK_PT_analysis,
+             MESHMARK_PT_steganalysis, MESHMARK_PT_study)
 _registered = []
 
 

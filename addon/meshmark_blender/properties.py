@@ -37,6 +37,15 @@ def forget_keys():
     _KEYS.clear()
 
 
+def _show_heat(self, context):
+    """The Show menu switches the heat map of the active object (if it has been analyzed)."""
+    obj = getattr(context, "active_object", None)
+    if obj is not None and obj.type == "MESH":
+        from .hiding_ops import show_attr
+        show_attr(obj, self.analysis_show)
+        obj.data.update()
+
+
 def method_items(self, context):
     _ENUM_ITEMS[:] = _params.method_items()
     return _ENUM_ITEMS
@@ -44,6 +53,19 @@ def method_items(self, context):
 
 PARAM_MODES = [("AUTO", "Auto", "Settings chosen for this mesh and method"),
                ("CUSTOM", "Custom", "Use the settings below")]
+
+# Steganography, analysis, steganalysis: every choice a menu (identifier, label, tooltip)
+STEGO_SOURCES = [("TEXT", "Text", "Hide a text typed here"), ("FILE", "File", "Hide the contents of a file")]
+STEGO_SPREAD = [("triangle", "Even", "The same shading change everywhere (the default)"),
+                ("curvature", "Curved parts", "Hide more where the surface is curved, less where it is flat"),
+                ("global", "Uniform", "The same precision on every vertex: holds less")]
+STEGO_TOLERANCE = 1.0      # degrees: docs/stego.md (Table 4.4 uses 1 deg)
+ANALYSIS_TOLERANCE = 0.1   # degrees: the eps_0 of the heat map in docs/blender.md
+ANALYSIS_SHOW = [("LEVELS", "Precision", "Bits each vertex needs: red many, blue few"),
+                 ("CURVATURE", "Curvature change", "How much the curvature moves when the vertices are "
+                                                   "rounded to those bits: red much, blue little")]
+MODEL_SOURCES = [("DEFAULT", "Built-in", "The detector shipped with meshmark"),
+                 ("FILE", "From file", "A detector you trained")]
 
 
 def blender_property(p: _params.Param, **extra):
@@ -107,6 +129,45 @@ def _build_classes():
                                          description="Folder where the study writes its table (CSV) and plot"),
             "last_result": StringProperty(name="Last result", default="",
                                           description="JSON result of the last meshmark operator"),
+            # Steganography (meshmark.stego): the key is the panel's Key (never saved)
+            "stego_source": EnumProperty(name="Hide", items=STEGO_SOURCES, default="TEXT",
+                                         description="Hide a text typed here, or the contents of a file"),
+            "stego_text": StringProperty(name="Text", default="", description="The text to hide in the mesh"),
+            "stego_file": StringProperty(name="File", default="", subtype="FILE_PATH",
+                                         description="The file to hide in the mesh"),
+            "stego_save": StringProperty(name="Save to", default="", subtype="FILE_PATH",
+                                         description="Where Extract writes a hidden file (empty: show the text)"),
+            "stego_show_advanced": BoolProperty(name="Advanced", default=False,
+                                                description="Show how much the surface may change"),
+            "stego_mode": EnumProperty(name="Settings", items=PARAM_MODES, default="AUTO",
+                                       description="Let meshmark choose, or set the settings below"),
+            "stego_tolerance": FloatProperty(name="Shading change", default=STEGO_TOLERANCE, min=0.001, max=45.0,
+                                             precision=3, description="How far the surface's shading may turn, "
+                                             "in degrees: more hides more, but may show"),
+            "stego_spread": EnumProperty(name="Spread", items=STEGO_SPREAD, default="triangle",
+                                         description="Where the hidden bits go"),
+            # Analysis (meshmark.analysis)
+            "analysis_show_advanced": BoolProperty(name="Advanced", default=False,
+                                                   description="Show the analysis settings"),
+            "analysis_mode": EnumProperty(name="Settings", items=PARAM_MODES, default="AUTO",
+                                          description="The published settings, or the ones below"),
+            "analysis_tolerance": FloatProperty(name="Shading change", default=ANALYSIS_TOLERANCE, min=0.001,
+                                                max=45.0, precision=3, description="How far the shading may "
+                                                "turn on a flat part, in degrees"),
+            "analysis_show": EnumProperty(name="Show", items=ANALYSIS_SHOW, default="LEVELS",
+                                          description="Which heat map the viewport shows", update=_show_heat),
+            # Steganalysis (meshmark.steganalysis)
+            "model_source": EnumProperty(name="Detector", items=MODEL_SOURCES, default="DEFAULT",
+                                         description="The detector shipped with meshmark, or one you trained"),
+            "model_file": StringProperty(name="File", default="", subtype="FILE_PATH",
+                                         description="A detector file made by 'meshmark steganalysis train'"),
+            # Study (meshmark.study, run in the background)
+            "study_spec": StringProperty(name="Spec", default="", subtype="FILE_PATH",
+                                         description="The study to run (a .toml file)"),
+            "study_out": StringProperty(name="Folder", default="", subtype="DIR_PATH",
+                                        description="Where the study writes its results"),
+            "study_progress": FloatProperty(name="Progress", default=0.0, min=0.0, max=100.0, subtype="PERCENTAGE",
+                                            precision=0, description="How far the running study is"),
         },
     })
     return [*method_groups.values(), all_params, settings]
