@@ -80,6 +80,34 @@ def repair_wheel(wheel: str, out: str) -> str:
     return wheels[0]
 
 
+#: Runtime dependencies of the add-on's features that the bpy wheel and Blender do not ship: the
+#: steganography operators encrypt with ``cryptography`` (AES-GCM, scrypt), which needs cffi and
+#: pycparser. Bundled as wheels at the versions of the building environment (binary wheels only,
+#: Python 3.11 manylinux on Linux). Steganalysis (scikit-learn) and studies (pyarrow, run in a
+#: separate Python) are not bundled: their operators name the missing package.
+DEPENDENCY_WHEELS = ("cryptography", "cffi", "pycparser")
+
+
+def dependency_wheels(out: str, platform_tag: str) -> list:
+    """pip download of :data:`DEPENDENCY_WHEELS` for ``platform_tag`` (the meshmark wheel's): their paths."""
+    from importlib.metadata import version
+    os.makedirs(out, exist_ok=True)
+    plat = []
+    if platform_tag.startswith("linux"):
+        plat = ["--platform", "manylinux_2_34_x86_64", "--platform", "manylinux_2_28_x86_64",
+                "--platform", "manylinux_2_17_x86_64", "--platform", "manylinux2014_x86_64"]
+    reqs = [f"{n}=={version(n)}" for n in DEPENDENCY_WHEELS]
+    subprocess.run([sys.executable, "-m", "pip", "download", "-q", "--no-deps", "--only-binary=:all:",
+                    "--python-version", "3.11", "--implementation", "cp", *plat, "-d", out, *reqs], check=True)
+    found = []
+    for n in DEPENDENCY_WHEELS:
+        w = sorted(glob.glob(os.path.join(out, f"{n}-{version(n)}-*.whl")))
+        if not w:
+            raise SystemExit(f"build_extension: no wheel of {n} {version(n)} downloaded")
+        found.append(w[-1])
+    return found
+
+
 def platform_of(wheel: str) -> str:
     tag = os.path.basename(wheel).rsplit("-", 1)[-1]
     for pat, plat in (("linux_x86_64|manylinux.*x86_64", "linux-x64"), ("linux.*aarch64", "linux-arm64"),
@@ -159,10 +187,13 @@ def main(argv=None):
         stage = os.path.join(tmp, "meshmark")
         shutil.copytree(SRC, stage, ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "wheels"))
         os.makedirs(os.path.join(stage, "wheels"))
-        shutil.copy2(wheel, os.path.join(stage, "wheels"))
+        deps = dependency_wheels(os.path.join(ROOT, "build", "ext-dep-wheels"), platform_of(wheel))
+        for w in [wheel, *deps]:
+            shutil.copy2(w, os.path.join(stage, "wheels"))
+        listed = ", ".join(f'"./wheels/{os.path.basename(w)}"' for w in [wheel, *deps])
         manifest = os.path.join(stage, "blender_manifest.toml")
         text = open(manifest, encoding="utf-8").read()
-        text = re.sub(r'^wheels = \[.*\]$', f'wheels = ["./wheels/{os.path.basename(wheel)}"]', text, flags=re.M)
+        text = re.sub(r'^wheels = \[.*\]$', f'wheels = [{listed}]', text, flags=re.M)
         text = re.sub(r'^platforms = \[.*\]$', f'platforms = ["{platform_of(wheel)}"]', text, flags=re.M)
         open(manifest, "w", encoding="utf-8").write(text)
         m = tomllib.loads(text)

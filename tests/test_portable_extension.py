@@ -38,7 +38,13 @@ kf = os.path.join(user, "k.json")
 assert bpy.ops.meshmark.embed(message="P", key="portable", method="cho-mean", keyfile=kf) == {"FINISHED"}
 assert bpy.ops.meshmark.verify(keyfile=kf) == {"FINISHED"}
 r = json.loads(bpy.context.scene.meshmark.last_result)
+import cryptography  # bundled with the extension: steganography works in a bare Blender
+assert cryptography.__file__.startswith(user), cryptography.__file__
+assert bpy.ops.meshmark.stego_embed(text="bundled", key="portable") == {"FINISHED"}
+assert bpy.ops.meshmark.stego_extract(key="portable") == {"FINISHED"}
+st = json.loads(bpy.context.scene.meshmark.last_result)
 print("RESULT " + json.dumps({"so": so, "ldd": ldd, "detected": r["detected"], "message": r["message"],
+                              "stego_text": st.get("text"),
                               "site": os.path.dirname(os.path.dirname(meshmark.__file__))}))
 """
 
@@ -103,6 +109,7 @@ def test_installs_in_fresh_bpy_venv_and_embeds(dist, tmp_path):
     assert r.returncode == 0 and line, r.stdout[-3000:] + r.stderr[-3000:]
     d = json.loads(line[0][7:])
     assert d["detected"] is True and d["message"] == "P"
+    assert d["stego_text"] == "bundled"
     site = d["site"]
     for row in d["ldd"].splitlines():
         row = row.strip()
