@@ -117,6 +117,10 @@ def test_panel_in_a_blender_34_window(tmp_path):
     done = steps["study_spec"]["last_result"]
     assert done["ok"] and done["operator"] == "meshmark.study" and done["summary"]["ok"] == done["planned"] == 12
     assert any(i[1] == "12 of 12 tasks ok" for i in steps["study_spec"]["panels"]["Study"]["items"])
+    stop = steps["study_stopped"]  # Esc, pressed in the window, stopped the study's process
+    assert stop["running"] is False and stop["returncode"] is not None
+    assert 0 <= stop["done"] < stop["todo"] == 1200
+    assert stop["last_result"]["ok"] is False and stop["last_result"]["error"].startswith("stopped after")
 
     # another selection: the arm's result is not shown for the camera
     cam = steps["camera_selected"]

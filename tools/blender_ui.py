@@ -225,6 +225,11 @@ def steps():
     snapshot("analysis", result=sorted(r_an), level_min=an.get("level_min"), level_max=an.get("level_max"),
              active_color=arm.data.color_attributes.active_color.name)
     win, area, region = ui()
+    main = next(r for r in area.regions if r.type == "WINDOW")
+    with bpy.context.temp_override(window=win, area=area, region=main, screen=win.screen):
+        bpy.ops.view3d.view_selected()  # frame the arm so that its heat map fills the view
+    redraw()
+    yield
     snapshot("analysis_viewport", window=win)
 
     SHOW["only"] = "Steganalysis"
@@ -256,6 +261,32 @@ def steps():
     yield
     done = json.loads(s.last_result)
     snapshot("study_spec", last_result=done)
+
+    # Esc stops a running study: a long spec, Esc pressed through the window's event queue
+    with open(spec, "w") as f:
+        f.write(STUDY_SPEC.replace("MESH", rigs.shared_mesh("classic/bunny.obj"))
+                .replace("seeds = [0, 1, 2]", "seeds = " + str(list(range(300)))))
+    s.study_out = os.path.join(TMP, "study_out_stopped")
+    with ui_override():
+        bpy.ops.meshmark.study("INVOKE_DEFAULT", True)
+    stopped = study_ops.STATE["running"]
+    for _ in range(200):  # until the process has planned its tasks
+        redraw()
+        yield
+        if stopped is None or stopped.todo > 0:
+            break
+    win, area, region = ui()
+    win.event_simulate(type="ESC", value="PRESS")
+    win.event_simulate(type="ESC", value="RELEASE")
+    for _ in range(20):
+        redraw()
+        yield
+        if study_ops.STATE["running"] is None:
+            break
+    res = json.loads(s.last_result)
+    snapshot("study_stopped", last_result=res, running=study_ops.STATE["running"] is not None,
+             returncode=None if stopped is None else stopped.proc.returncode,
+             done=None if stopped is None else stopped.done, todo=None if stopped is None else stopped.todo)
     SHOW["only"] = None
 
     # a cube: Embed reports in the user's words, in the panel and the report
