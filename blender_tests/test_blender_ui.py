@@ -100,6 +100,9 @@ def test_panel_in_a_blender_34_window(tmp_path):
     assert "Found on 5/5 frames" in [i[1] for i in study["panels"]["Study"]["items"]]
 
     # the new sub-panels, each pressed through the UI context, each with its screenshot
+    tr = steps["trace_copies"]
+    assert set(tr["panels"]) == {"Meshmark", "Trace copies"}
+    assert {"Issue", "Trace"} <= {i[1] for i in tr["panels"]["Trace copies"]["items"]}
     st = steps["stego"]
     assert (st["hide"], st["reveal"], st["read_back"], st["text"]) == (["FINISHED"], ["FINISHED"], True,
                                                                       "Hello from the sidebar")

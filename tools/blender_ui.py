@@ -201,6 +201,11 @@ def steps():
     # the new sub-panels, one at a time: Steganography (Hide, Reveal), Analysis (the heat map),
     # Steganalysis (Check), Study (a spec run in the background: the modal operator's progress)
     rigs.select_only(arm)
+    SHOW["only"] = "Trace copies"  # its own screenshot (Issue / Trace are pressed in the bpy tests)
+    redraw()
+    yield
+    snapshot("trace_copies")
+
     SHOW["only"] = "Steganography"
     s.stego_source, s.stego_text = "TEXT", "Hello from the sidebar"
     with ui_override():
