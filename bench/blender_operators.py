@@ -141,7 +141,8 @@ def bench_new(obj, m, repeat):
     t_nat_d = best(lambda: model.detect(marked), repeat)
     spec = os.path.join(tempfile.mkdtemp(), "s.toml")
     with open(spec, "w") as f:
-        f.write(STUDY.replace("MESH", rigs.shared_mesh("classic/fandisk.obj")))
+        f.write(rigs.study_spec(rigs.shared_mesh("classic/fandisk.obj"), seeds=(0, 1, 2), name="bench", attacks=[
+            'name = "noise"\ngrid = { strength = [0.001] }', 'name = "smooth"\ngrid = { iterations = [5] }', 'name = "reorder"']))
     t_op_s = best(lambda: bpy.ops.meshmark.study(spec=spec, output_dir=tempfile.mkdtemp()), repeat)
     assert rigs.last_result()["summary"]["ok"] == 12, rigs.last_result()
     # the same run in this process (workers=0, as the runner does in its own process)
@@ -156,28 +157,6 @@ def bench_new(obj, m, repeat):
     print(f"analyze in all: {t_op_a:.3f}s (target <= 0.5 s)")
 
 
-STUDY = """
-[study]
-name = "bench"
-seeds = [0, 1, 2]
-payload_bits = 8
-[meshes]
-paths = ["MESH"]
-[[methods]]
-name = "cho-mean"
-[[attacks]]
-name = "none"
-[[attacks]]
-name = "noise"
-grid = { strength = [0.001] }
-[[attacks]]
-name = "smooth"
-grid = { iterations = [5] }
-[[attacks]]
-name = "reorder"
-[measurements]
-list = ["nc", "detection"]
-"""
 
 
 def _evaluated(obj):

@@ -26,6 +26,15 @@ def shared_mesh(rel: str) -> str:
     return path
 
 
+def study_spec(mesh_path: str, seeds=(0,), attacks=(), name: str = "blender") -> str:
+    """A small study spec (TOML text) for the add-on's study operator: Cho mean on one mesh, the attack
+    ``none`` plus ``attacks`` (TOML ``[[attacks]]`` bodies, e.g. ``'name = "noise"\ngrid = { strength = [0.001] }'``),
+    NC and detection. Tasks: len(seeds) x (1 + len(attacks)) x grid points."""
+    blocks = "".join(f"[[attacks]]\n{a}\n" for a in ('name = "none"', *attacks))
+    return (f'[study]\nname = "{name}"\nseeds = {list(seeds)}\npayload_bits = 8\n[meshes]\npaths = ["{mesh_path}"]\n'
+            f'[[methods]]\nname = "cho-mean"\n{blocks}[measurements]\nlist = ["nc", "detection"]\n')
+
+
 def mesh_object(name: str, V=None, F=None, mesh: meshmark.Mesh | None = None):
     """A new mesh object (linked to the scene, active and selected) from arrays, via foreach_set."""
     m = mesh if mesh is not None else meshmark.Mesh(V, F)

@@ -41,20 +41,7 @@ def test_analyze_and_steganalysis_examples(tmp_path):
 
 def test_study_example(tmp_path):
     spec = tmp_path / "s.toml"
-    spec.write_text(f"""
-[study]
-name = "example"
-seeds = [0]
-payload_bits = 8
-[meshes]
-paths = ["{rigs.shared_mesh('classic/fandisk.obj')}"]
-[[methods]]
-name = "cho-mean"
-[[attacks]]
-name = "none"
-[measurements]
-list = ["nc", "detection"]
-""")
+    spec.write_text(rigs.study_spec(rigs.shared_mesh("classic/fandisk.obj"), name="example"))
     r, out = _run("blender_study.py", "--spec", spec, "--out", tmp_path / "out")
     assert r["operator"] == "meshmark.study" and r["summary"]["ok"] == r["planned"] == 1
     assert os.path.isdir(r["results"]) and "1 ok" in out

@@ -187,29 +187,12 @@ def test_detect_equals_the_python_api_and_bad_models(fandisk, tmp_path):
     assert _state(fandisk) == s0
 
 
-SPEC = """
-[study]
-name = "blender-op"
-seeds = [0]
-payload_bits = 8
-[meshes]
-paths = ["MESH"]
-[[methods]]
-name = "cho-mean"
-[[attacks]]
-name = "none"
-[[attacks]]
-name = "noise"
-grid = { strength = [0.001] }
-[measurements]
-list = ["nc", "detection"]
-"""
 
 
 def test_study_runs_a_spec_and_reports_bad_specs(addon, tmp_path):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     spec = tmp_path / "s.toml"
-    spec.write_text(SPEC.replace("MESH", rigs.shared_mesh("classic/fandisk.obj")))
+    spec.write_text(rigs.study_spec(rigs.shared_mesh("classic/fandisk.obj"), attacks=['name = "noise"\ngrid = { strength = [0.001] }']))
     out = tmp_path / "out"
     assert bpy.ops.meshmark.study(spec=str(spec), output_dir=str(out)) == {"FINISHED"}
     r = last_result()

@@ -248,7 +248,7 @@ def steps():
     SHOW["only"] = "Study"
     spec = os.path.join(TMP, "study.toml")
     with open(spec, "w") as f:
-        f.write(STUDY_SPEC.replace("MESH", rigs.shared_mesh("classic/fandisk.obj")))
+        f.write(rigs.study_spec(rigs.shared_mesh("classic/fandisk.obj"), seeds=(0, 1, 2), attacks=STUDY_NOISE, name="ui"))
     s.study_spec, s.study_out = spec, os.path.join(TMP, "study_out")
     from meshmark_blender import study_ops
     with ui_override():
@@ -269,8 +269,7 @@ def steps():
 
     # Esc stops a running study: a long spec, Esc pressed through the window's event queue
     with open(spec, "w") as f:
-        f.write(STUDY_SPEC.replace("MESH", rigs.shared_mesh("classic/bunny.obj"))
-                .replace("seeds = [0, 1, 2]", "seeds = " + str(list(range(300)))))
+        f.write(rigs.study_spec(rigs.shared_mesh("classic/bunny.obj"), seeds=range(300), attacks=STUDY_NOISE, name="ui"))
     s.study_out = os.path.join(TMP, "study_out_stopped")
     with ui_override():
         bpy.ops.meshmark.study("INVOKE_DEFAULT", True)
@@ -338,23 +337,7 @@ def steps():
     yield
 
 
-STUDY_SPEC = """
-[study]
-name = "ui"
-seeds = [0, 1, 2]
-payload_bits = 8
-[meshes]
-paths = ["MESH"]
-[[methods]]
-name = "cho-mean"
-[[attacks]]
-name = "none"
-[[attacks]]
-name = "noise"
-grid = { strength = [0.001, 0.002, 0.003] }
-[measurements]
-list = ["nc", "detection"]
-"""
+STUDY_NOISE = ['name = "noise"\ngrid = { strength = [0.001, 0.002, 0.003] }']  # with "none": 4 settings
 
 
 def main():
