@@ -109,19 +109,6 @@ def test_message_longer_than_capacity(elephant, tmp_path):
     assert not (tmp_path / "k.json").exists()
 
 
-def test_existing_keyfile_is_not_overwritten_without_consent(elephant, tmp_path):
-    """issue 10 item 5: automatic parameters take "ACME 2024"; a second Embed into the same keyfile
-    fails (the dialog's confirmation sets overwrite) and changes nothing."""
-    kf = tmp_path / f"{elephant.name}.meshmark.json"
-    assert bpy.ops.meshmark.embed(message="ACME 2024", key="k", keyfile=str(kf)) == {"FINISHED"}
-    first = kf.read_text()
-    V1 = _coords(elephant)
-    _fails(bpy.ops.meshmark.embed, "already exists", message="other", key="k2", keyfile=str(kf))
-    assert kf.read_text() == first and np.array_equal(_coords(elephant), V1)
-    assert bpy.ops.meshmark.embed(message="other", key="k2", keyfile=str(kf), overwrite=True) == {"FINISHED"}
-    assert kf.read_text() != first
-
-
 def test_edit_mode_is_refused(elephant, tmp_path):
     V0 = _coords(elephant)
     bpy.ops.object.mode_set(mode="EDIT")
