@@ -10,7 +10,8 @@ torus-tube, superquadric, hull-blob; never trained on) plus the Blender-made OBJ
 Their features are cached in ``--dataset``. ``--shared``: a cached protocol dataset of the shared
 corpora (protocol.save_dataset); its covers not used by the default model (not in the model's
 ``training.covers``) are the second test set. For each model: FPR on the clean meshes, TPR per stego
-method and overall, accuracy on covers + stego, with and without the model's out-of-distribution guard.
+method and overall, accuracy on covers + stego and the universal detector's ROC AUC, at the model's
+threshold and at 0.5 (with and without an out-of-distribution guard when the model has one).
 """
 from __future__ import annotations
 
@@ -56,6 +57,8 @@ def score(model, X, method, fam, guard=True):
            "accuracy": float((marked == y).mean()), "ood_covers": float((~ind[~y]).mean()),
            "ood_stego": float((~ind[y]).mean()) if y.any() else float("nan")}
     out["balanced_accuracy"] = 0.5 * (1 - out["fpr"] + out["tpr"])
+    from sklearn.metrics import roc_auc_score
+    out["auc"] = float(roc_auc_score(y, [r["probability"] for r in res])) if y.any() else float("nan")
     out["tpr_by_method"] = {m: float(marked[method == m].mean()) for m in sorted(set(method) - {"cover"})}
     out["fpr_by_family"] = {f: float(marked[(~y) & (fam == f)].mean()) for f in sorted(set(fam[~y]))}
     return out
@@ -91,14 +94,19 @@ def main():
             cov_path = np.array([d["path"][c] for c in d["cover"]], dtype=object)
             keep = np.array([pathlib.Path(p).name not in train_files for p in cov_path])
             fam = np.array([family(p) for p in cov_path], dtype=object)
-            for guard in (False, True):
-                r = score(model, X[keep], d["method"][keep], fam[keep], guard=guard)
-                report[f"{mp} | {name} | guard={guard}"] = r
-                print(f"{mp} | {name} | guard={guard}: covers {r['n_covers']} stego {r['n_stego']} FPR {r['fpr']:.3f} "
-                      f"TPR {r['tpr']:.3f} acc {r['accuracy']:.3f} bal {r['balanced_accuracy']:.3f} "
-                      f"OOD covers {r['ood_covers']:.2f} stego {r['ood_stego']:.2f}")
-                print("   TPR:", " ".join(f"{m} {v:.2f}" for m, v in r["tpr_by_method"].items()))
-                print("   FPR:", " ".join(f"{m} {v:.2f}" for m, v in r["fpr_by_family"].items()))
+            shipped = model.threshold
+            for t in dict.fromkeys((shipped, 0.5)):  # the model's operating point, and 0.5 for comparison
+                for guard in ((False, True) if model.guard else (False,)):
+                    model.threshold = t
+                    r = score(model, X[keep], d["method"][keep], fam[keep], guard=guard)
+                    key = f"{mp} | {name} | threshold={t:.3f} | guard={guard}"
+                    report[key] = r
+                    print(f"{key}: covers {r['n_covers']} stego {r['n_stego']} FPR {r['fpr']:.3f} TPR {r['tpr']:.3f} "
+                          f"acc {r['accuracy']:.3f} bal {r['balanced_accuracy']:.3f} AUC {r['auc']:.3f} "
+                          f"OOD covers {r['ood_covers']:.2f} stego {r['ood_stego']:.2f}")
+                    print("   TPR:", " ".join(f"{m} {v:.2f}" for m, v in r["tpr_by_method"].items()))
+                    print("   FPR:", " ".join(f"{m} {v:.2f}" for m, v in r["fpr_by_family"].items()))
+            model.threshold = shipped
     if a.json:
         pathlib.Path(a.json).write_text(json.dumps(report, indent=1))
 

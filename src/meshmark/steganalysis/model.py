@@ -96,6 +96,9 @@ class Model:
         per = {self.methods[k]: float(d.predict_proba(F)[0]) for k, d in self.detectors.items() if k != "universal"}
         out = {"marked": p > self.threshold, "probability": p, "threshold": self.threshold, "methods": per,
                "feature_set": self.feature_set, "classifier": self.classifier}
+        cal = self.training.get("calibration") if isinstance(self.training, dict) else None
+        if cal and "oof_fpr" in cal:  # how much a verdict of this model is worth (cross-validated on its covers)
+            out["operating_point"] = {"cv_fpr": cal["oof_fpr"], "cv_tpr": cal["oof_tpr"]}
         if self.guard:
             frac = float(self.outside_fraction(F)[0])
             out["in_distribution"] = frac <= self.guard["max_outside"]
