@@ -102,7 +102,7 @@ def add_commands(group: click.Group) -> None:
             if "warning" in r:
                 d["warning"] = r["warning"]
         per = ", ".join(f"{k} {v:.2f}" for k, v in sorted(r["methods"].items(), key=lambda kv: -kv[1]))
-        _emit(d, as_json, f"{inp}: {'MARKED' if d['marked'] else 'clean'} (universal P = {d['probability']:.2f}, "
+        _emit(d, as_json, f"{inp}: {'MARKED' if d['marked'] else 'not marked'} (universal P = {d['probability']:.2f}, "
                           f"marked above {d['threshold']:.2f})\nper method: {per}"
                           + (f"\nwarning: {d['warning']}" if "warning" in d else "")
                           + (f"\nthis model, cross-validated on its covers: {100 * d['operating_point']['cv_fpr']:.0f} % of "
