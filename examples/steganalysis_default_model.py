@@ -8,19 +8,33 @@ everything in corpus-large are left out; attribution is in the model's metadata 
 docs/steganalysis.md §4). Each cover is marked by every registered stego method with ``--versions``
 independent messages and strengths. Cover variety (``--augment``, default on): besides each file, two
 patches (the mesh cropped by 35 % along its first and third principal axes: open sub-meshes) and one
-level of Loop subdivision (meshes under 20k vertices) are further covers; no re-meshing. Models trained on research-only data are made with
-``meshmark steganalysis train`` and stay out of the repository.
+level of Loop subdivision (meshes under 20k vertices) are further covers. Since the unseen-mesh
+measurement (docs/steganalysis.md, "Default model on unseen meshes"), also (``--variants``, default on)
+three re-meshings of each file (quadric simplification, Gaussian noise, midpoint subdivision + noise:
+``generated.open_variants``) and ``--generated`` meshes of the training-only families (``generated.
+training_covers``: icospheres, Loop-subdivided solids, open height fields). None of the hold-out families
+(``generated.HOLDOUT_FAMILIES``, the Blender meshes) is used.
+
+Operating point: the universal decision threshold is the smallest vote fraction whose false-positive
+rate on the covers is at most ``--fpr`` (default 5 %) in a grouped ``--folds``-fold cross-validation
+over the training covers (a file and all its variants, or one generated mesh, form a group; the
+hold-out sets are not used). The out-of-distribution guard (``--guard``) stores the training range;
+its ``max_outside`` is set the same way (at most ``--ood-fpr`` of the out-of-fold training covers flagged);
+off by default: measured, it flags no generated hold-out mesh and 13 % of the real held-out covers.
+Models trained on research-only data are made with ``meshmark steganalysis train`` and stay out of the
+repository.
 """
 from __future__ import annotations
 
 import argparse
 import pathlib
+import sys
 
 import numpy as np
 
 import meshmark
 from meshmark import attacks
-from meshmark.steganalysis import protocol as P
+from meshmark.steganalysis import classifiers as clf, generated as G, protocol as P
 from meshmark.steganalysis.model import Model, corpus_hash
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -77,34 +91,126 @@ def augmented(paths):
     return out
 
 
+def group_of(name):
+    """Cross-validation group of a training cover: its source file (with every variant) or the generated mesh."""
+    return name if name.split("#")[0] in G.FAMILIES else name.split("#")[0]
+
+
+def training_set(a):
+    paths = [SHARED / p for p in OPEN]
+    covers = [(str(p), meshmark.read_mesh(p)) for p in paths] if a.no_augment else augmented(paths)
+    if a.variants:
+        covers += [v for k, p in enumerate(paths) for v in G.open_variants(str(p), meshmark.read_mesh(p), seed=k)]
+    covers += G.training_covers(a.generated, seed=a.seed)
+    Xs, meth, cov = [], [], []
+    names = None
+    for v in range(a.versions):
+        ds = P.build_dataset(covers, None, tuple(a.feature_set.split("+")), seed=v,
+                             log=lambda s: print(s, file=sys.stderr, flush=True) if a.verbose else None)
+        keep = np.ones(len(ds["method"]), bool) if v == 0 else ds["method"] != "cover"
+        names = ds["path"] if names is None else names
+        assert names == ds["path"]
+        Xs.append(P.dataset_features(ds, a.feature_set)[keep])
+        meth += list(ds["method"][keep])
+        cov += list(ds["cover"][keep])
+    return {"X": np.vstack(Xs), "method": np.array(meth, dtype=object), "cover": np.array(cov), "path": names}
+
+
+def calibrate(X, y, groups, n_folds, seed, learners, fpr_target, ood_target, margin, fs):
+    """Out-of-fold universal probabilities and guard fractions (grouped k-fold), the threshold with OOF
+    cover FPR <= fpr_target and the guard's max_outside with <= ood_target of the OOF covers flagged."""
+    ug = np.array(sorted(set(groups)))
+    fold_of = dict(zip(ug, np.random.default_rng(seed).permutation(len(ug)) % n_folds))
+    fold = np.array([fold_of[g] for g in groups])
+    p, out = np.zeros(len(y)), np.zeros(len(y))
+    for k in range(n_folds):
+        tr, te = fold != k, fold == k
+        det = clf.make("ensemble", n_learners=learners).fit(X[tr], y[tr])
+        p[te] = det.predict_proba(X[te])
+        m = Model(fs, "ensemble", {}, {}, {})
+        m.set_guard(X[tr], margin, 1.0)
+        out[te] = m.outside_fraction(X[te])
+    c = ~y
+    grid = np.unique(np.r_[p, 0.0])
+    # smallest threshold t (decision p > t) with OOF FPR <= target
+    t = next(t for t in grid if (p[c] > t).mean() <= fpr_target)
+    q = float(np.quantile(out[c], 1 - ood_target))
+    return {"threshold": float(t), "oof_fpr": float((p[c] > t).mean()), "oof_tpr": float((p[y] > t).mean()),
+            "oof_fpr_at_0.5": float((p[c] > 0.5).mean()), "oof_tpr_at_0.5": float((p[y] > 0.5).mean()),
+            "max_outside": q, "oof_flagged_covers": float((out[c] > q).mean()),
+            "oof_flagged_stego": float((out[y] > q).mean()), "folds": n_folds}, p, out
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", default=str(ROOT / "src" / "meshmark" / "steganalysis" / "default_model.npz"))
     ap.add_argument("--set", dest="feature_set", default="yang208+lfs76+nvt36")
-    ap.add_argument("--versions", type=int, default=3, help="stego versions per (cover, method)")
-    ap.add_argument("--learners", type=int, default=31)
-    ap.add_argument("--no-augment", action="store_true", help="only the 23 files themselves as covers")
+    ap.add_argument("--versions", type=int, default=2, help="stego versions per (cover, method)")
+    ap.add_argument("--learners", type=int, default=31, help="FLD learners of each specific detector")
+    ap.add_argument("--universal-learners", type=int, default=101,
+                    help="FLD learners of the universal detector (finer vote fractions at the low-FPR threshold)")
+    ap.add_argument("--no-augment", action="store_true", help="no crops and Loop subdivisions of the files")
+    ap.add_argument("--variants", type=int, default=1, help="1: add generated.open_variants of each file")
+    ap.add_argument("--generated", type=int, default=90, help="meshes of the training-only generated families")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--fpr", type=float, default=0.05, help="target cross-validated FPR on the covers")
+    ap.add_argument("--guard", type=int, default=0,
+                    help="1: store the out-of-distribution guard (measured not to help the default model: docs)")
+    ap.add_argument("--ood-fpr", type=float, default=0.02, help="OOF training covers the guard may flag")
+    ap.add_argument("--margin", type=float, default=0.1, help="guard: widen the training range by this share of its span")
+    ap.add_argument("--folds", type=int, default=5)
+    ap.add_argument("--threshold", type=float, default=None, help="fix the threshold instead of calibrating it")
+    ap.add_argument("--dataset", default=None, help="cache of the training features (.npz): read if present, else written")
+    ap.add_argument("--no-diversity", action="store_true",
+                    help="ablation: drop the open-file variants and the generated covers (the previous recipe)")
+    ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args()
     paths = [SHARED / p for p in OPEN]
-    covers = paths if a.no_augment else augmented(paths)
-    Xs, ys, labs = [], [], []
     with P.one_thread():
-        for v in range(a.versions):
-            ds = P.build_dataset(covers, None, (a.feature_set,), seed=v)
-            keep = np.ones(len(ds["method"]), bool) if v == 0 else ds["method"] != "cover"
-            Xs.append(ds["X"][a.feature_set][keep])
-            ys.append(ds["method"][keep] != "cover")
-            labs += list(ds["method"][keep])
-        X, y = np.vstack(Xs), np.concatenate(ys)
+        if a.dataset and pathlib.Path(a.dataset).is_file():
+            z = np.load(a.dataset, allow_pickle=False)
+            ds = {"X": z["X"], "method": z["method"].astype(object), "cover": z["cover"], "path": list(z["path"])}
+        else:
+            ds = training_set(a)
+            if a.dataset:
+                np.savez_compressed(a.dataset, X=ds["X"], method=ds["method"].astype(str), cover=ds["cover"],
+                                    path=np.array(ds["path"], dtype=str))
+        if a.no_diversity:
+            tags = ("#simplify", "#noise", "#midpoint+noise")
+            ok = np.array([not (p.split("#")[0] in G.FAMILIES or p.endswith(tags)) for p in ds["path"]])
+            rows = ok[ds["cover"]]
+            new = -np.ones(len(ok), int)
+            new[ok] = np.arange(int(ok.sum()))
+            ds = {"X": ds["X"][rows], "method": ds["method"][rows], "cover": new[ds["cover"][rows]],
+                  "path": [p for p, k in zip(ds["path"], ok) if k]}
+            a.variants, a.generated = 0, 0
+        X, labs = ds["X"], list(ds["method"])
+        y = ds["method"] != "cover"
+        groups = np.array([group_of(ds["path"][c]) for c in ds["cover"]], dtype=object)
+        cal, _, _ = calibrate(X, y, groups, a.folds, a.seed, a.universal_learners, a.fpr, a.ood_fpr, a.margin, a.feature_set)
+        threshold = cal["threshold"] if a.threshold is None else a.threshold
+        fam = {}
+        for pth in ds["path"]:
+            f = pth.split("#")[0] if pth.split("#")[0] in G.FAMILIES else ("open file" if "#" not in pth else
+                                                                          "open " + pth.split("#")[1].rstrip("0123456789"))
+            fam[f] = fam.get(f, 0) + 1
         training = {"corpus_hash": corpus_hash(paths), "n_covers": int((~y).sum()), "n_stego": int(y.sum()),
                     "methods": sorted({l for l in labs if l != "cover"}), "versions": a.versions,
                     "augmentation": None if a.no_augment else "each file + 2 patches (35 % crops along principal axes 1, 3) + Loop subdivision (< 20k vertices)",
+                    "variants": "generated.open_variants: simplify, noise, midpoint+noise" if a.variants else None,
+                    "generated": {"n": a.generated, "seed": a.seed, "families": list(G.TRAINING_FAMILIES)},
+                    "cover_kinds": fam, "calibration": cal, "fpr_target": a.fpr,
+                    "learners": {"universal": a.universal_learners, "specific": a.learners},
                     "covers": {p: lic for p, lic in OPEN.items()},
-                    "note": "openly licensed meshes of ../shared/meshes only; see docs/steganalysis.md"}
+                    "note": "openly licensed meshes of ../shared/meshes plus generated meshes only; see docs/steganalysis.md"}
         model = Model.train(X, y, labs, a.feature_set, "ensemble", training, n_learners=a.learners)
+        model.detectors["universal"] = clf.make("ensemble", n_learners=a.universal_learners).fit(X, y)
+        model.threshold = threshold
+        if a.guard:
+            model.set_guard(X, a.margin, cal["max_outside"], ood_target=a.ood_fpr)
     model.save(a.out)
-    print(f"wrote {a.out} ({pathlib.Path(a.out).stat().st_size / 1024:.0f} KB): {training['n_covers']} covers, "
-          f"{training['n_stego']} stego, {', '.join(training['methods'])}")
+    print(f"wrote {a.out} ({pathlib.Path(a.out).stat().st_size / 1024:.0f} KB): {training['n_covers']} covers "
+          f"({fam}), {training['n_stego']} stego; threshold {threshold:.3f}; calibration {cal}")
 
 
 if __name__ == "__main__":

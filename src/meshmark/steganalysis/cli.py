@@ -92,12 +92,22 @@ def add_commands(group: click.Group) -> None:
 
         model = Model.load(model_path)
         r = model.detect(inp)
-        d = {"input": inp, "marked": bool(r["marked"]), "probability": r["probability"], "methods": r["methods"],
-             "feature_set": r["feature_set"], "classifier": r["classifier"],
+        d = {"input": inp, "marked": bool(r["marked"]), "probability": r["probability"], "threshold": r["threshold"],
+             "methods": r["methods"], "feature_set": r["feature_set"], "classifier": r["classifier"],
              "model": str(model_path or "default")}
+        if "operating_point" in r:  # the model's cross-validated false-positive and detection rates
+            d["operating_point"] = r["operating_point"]
+        if "in_distribution" in r:  # the model has an out-of-distribution guard
+            d.update(in_distribution=bool(r["in_distribution"]), outside_fraction=r["outside_fraction"])
+            if "warning" in r:
+                d["warning"] = r["warning"]
         per = ", ".join(f"{k} {v:.2f}" for k, v in sorted(r["methods"].items(), key=lambda kv: -kv[1]))
-        _emit(d, as_json, f"{inp}: {'MARKED' if d['marked'] else 'clean'} (universal P = {d['probability']:.2f})\n"
-                          f"per method: {per}")
+        _emit(d, as_json, f"{inp}: {'MARKED' if d['marked'] else 'not marked'} (universal P = {d['probability']:.2f}, "
+                          f"marked above {d['threshold']:.2f})\nper method: {per}"
+                          + (f"\nwarning: {d['warning']}" if "warning" in d else "")
+                          + (f"\nthis model, cross-validated on its covers: {100 * d['operating_point']['cv_fpr']:.0f} % of "
+                             f"clean meshes called marked, {100 * d['operating_point']['cv_tpr']:.0f} % of marked ones found"
+                             if "operating_point" in d else ""))
         sys.exit(0 if d["marked"] else 1)
 
     @group.command("evaluate")
