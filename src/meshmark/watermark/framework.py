@@ -168,10 +168,10 @@ def _coded(payload: Payload, key: str, method: str, n: int, scheme: str) -> np.n
     """(n,) coded bits of the payload under ``scheme`` (before whitening)."""
     if scheme == "repeat":  # keyfiles before the convolutional code
         return repeat_to(payload.frame(), n)
-    return _coding.encode(payload.data, payload.kind, key, method, n)
+    return _coding.encode(payload.data, payload.kind, key, method, n, scheme)
 
 
-def _expected(payload: Payload, key: str, method: str, n: int, scheme: str = _coding.SCHEME):
+def _expected(payload: Payload, key: str, method: str, n: int, scheme: str):
     coded = _coded(payload, key, method, n, scheme)
     white = _keys.whitening(key, method, n)
     order = _keys.permutation(key, method, n)
@@ -257,7 +257,7 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     from .auto import fallbacks
     later = fallbacks(mesh, m, method_params, choice)
     while True:
-        coded, white, order = _expected(pl, key, method, cap)
+        coded, white, order = _expected(pl, key, method, cap, _coding.scheme_for(pl.data.size))
         channel = coded ^ white
         carriers = np.asarray(ids)[order]  # carrier of coded bit i
         try:
@@ -274,8 +274,7 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
         stats["key_bins"] = True
     report(0.95, "writing keyfile")
     kf = _make_keyfile(m, p, key, weld, pl, side, ids, mesh, mesh_in, Vm, choice,
-                       {"scheme": _coding.SCHEME, "info_bits": _coding.info_bits(pl.data.size),
-                        "check_bits": _coding.CHECK_BITS, "n_coded": cap}, store_key=store_key)
+                       _coding.coding_field(pl.data.size, cap), store_key=store_key)
     if w is not None:
         Vm = w.scatter(Vm)
         stats["n_merged"] = w.n_merged
@@ -365,7 +364,7 @@ def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
     elif scheme == "repeat":
         found, _, reason = _decode_repeat(bits, np.abs(soft), int(kf.coding["frame_bits"]), pl.kind)
     else:
-        data, reason = _coding.decode(soft, pl.data.size, pl.kind, key, kf.method)
+        data, reason = _coding.decode(soft, pl.data.size, pl.kind, key, kf.method, scheme)
         if data is not None:
             found = Payload(pl.kind, data)
             try:
