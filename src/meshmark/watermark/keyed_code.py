@@ -29,13 +29,13 @@ disagreements (99.8 % of frames at 10 % flips).
 Against the tail-biting convolutional code with a 20-bit keyed check (:mod:`.coding`) it spends no
 bits on a check, so at the same carriers it decodes more frames; docs/coding.md has the measured curve.
 Decoding costs about 1 ms at k = 16 and 30 ms at k = 20 (the codebook, 2^k * nb bytes, at most
-32 MB, is cached for the last 4 keys).
+32 MB, is cached: at most 64 MB of codebooks, least recently used dropped first).
 """
 from __future__ import annotations
 
-import functools
 import hashlib
 import hmac
+from collections import OrderedDict
 
 import numpy as np
 
@@ -52,8 +52,23 @@ def code_bits(n_carriers: int) -> int:
     return int(min(int(n_carriers), MAX_CODE_BITS))
 
 
-@functools.lru_cache(maxsize=4)
+_CACHE: "OrderedDict[tuple, np.ndarray]" = OrderedDict()
+CACHE_BYTES = 64 << 20  # codebooks kept in memory (least recently used dropped first)
+
+
 def _codebook(key: str, method: str, kind: str, k: int, n: int) -> np.ndarray:
+    ident = (key, method, kind, k, n)
+    book = _CACHE.get(ident)
+    if book is None:
+        book = _make_codebook(*ident)
+        _CACHE[ident] = book
+        while len(_CACHE) > 1 and sum(b.nbytes for b in _CACHE.values()) > CACHE_BYTES:
+            _CACHE.popitem(last=False)
+    _CACHE.move_to_end(ident)
+    return book
+
+
+def _make_codebook(key: str, method: str, kind: str, k: int, n: int) -> np.ndarray:
     from cryptography.hazmat.primitives.ciphers import Cipher, algorithms, modes
     nb = (n + 7) // 8
     kk = hmac.new(key.encode("utf-8"), f"meshmark/v2/{method}/code/{kind}/{k}/{n}".encode(), hashlib.sha256).digest()
