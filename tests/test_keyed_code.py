@@ -98,3 +98,10 @@ def test_framework_writes_the_keyed_code_and_still_reads_tbcc_keyfiles(monkeypat
     assert r.detected and r.message == "h"
     wrong = W.extract(new.V, m.F, keyfile=new.keyfile, key="not-the-owner")
     assert not wrong.detected and wrong.message is None
+
+
+def test_half_binomial_is_exact_to_rounding():
+    """The pmf without scipy (Blender's Python has none) equals exact integer binomials / 2^m."""
+    for m in (1, 7, 108, 256):
+        exact = np.array([math.comb(m, j) for j in range(m + 1)], float) / 2.0 ** m
+        assert np.allclose(kc._half_binomial(m), exact, rtol=1e-11, atol=0)

@@ -16,9 +16,10 @@ and this module does the rest, identically for every method:
    apart: without welding the edge graph of such a mesh is a set of loose pieces. The choice is
    stored in the keyfile and extraction welds the same way;
 1. choose the parameters (``params="auto"``, the default: :mod:`.auto`; ``"thesis"``: the published
-   defaults) and code the payload (:mod:`.coding`: data + 20-bit keyed check, tail-biting
-   convolutional code rate-matched to all carriers; keyfiles of meshmark <= 0.x used the repetition
-   code of :mod:`.payload`, still read);
+   defaults) and code the payload (:mod:`.coding`: up to 20 bits a keyed random code decoded by
+   maximum likelihood, beyond a 20-bit keyed check and a tail-biting convolutional code, rate-matched
+   to all carriers; older keyfiles name the K = 7 convolutional code or the repetition code of
+   :mod:`.payload`, still read);
 2. whiten the coded bits and assign them to carriers in a key-dependent order (:mod:`.keys`);
 3. embed, then re-extract and re-embed the carriers that did not take (at most 4 rounds);
 4. write the keyfile (:mod:`.keyfile`).
@@ -27,8 +28,10 @@ Extraction un-permutes and un-whitens with the keyfile's key (or a key given), c
 with the expected ones (matches, NC, CDR), computes the false-alarm probability P(X >= matches),
 X ~ Bin(n, 1/2), and decides ``detected = p_false_alarm < 1e-6`` (:data:`DETECTION_THRESHOLD`): a
 random or unmarked mesh, or a wrong key, is called marked with probability below one in a million.
-The message is decoded by a soft Viterbi decoder from the methods' signed reliabilities and accepted
-only if its keyed check agrees *and* the mark is detected: no message is returned without a detection.
+The message is decoded from the methods' signed reliabilities (maximum likelihood over the keyed
+codebook, or soft Viterbi) and accepted only if the decoder certifies it (a wrong message below 1e-6
+per attempt: the keyed code's threshold or the keyed check) *and* the mark is detected: no message is
+returned without a detection.
 """
 from __future__ import annotations
 

@@ -101,9 +101,15 @@ def encode(data: np.ndarray, kind: str, key: str, method: str, C: int) -> np.nda
     return c[np.arange(int(C)) % n]
 
 
+def _half_binomial(m: int) -> np.ndarray:
+    """(m + 1,) pmf of Bin(m, 1/2), from the log-ratios of consecutive terms (no scipy: Blender's Python)."""
+    j = np.arange(1, m + 1, dtype=np.float64)
+    logp = np.concatenate([[0.0], np.cumsum(np.log((m - j + 1) / j))]) - m * np.log(2.0)
+    return np.exp(logp)
+
+
 def tail(weights: np.ndarray) -> np.ndarray:
     """cdf[d] = P(sum_i a_i B_i <= d), B_i ~ Bernoulli(1/2) independent, for integer weights 0..LEVELS."""
-    from scipy.stats import binom
     a = np.asarray(weights, np.int64)
     counts = np.bincount(a, minlength=LEVELS + 1)
     pmf = np.ones(1)
@@ -111,7 +117,7 @@ def tail(weights: np.ndarray) -> np.ndarray:
         m = int(counts[v])
         if m:
             d = np.zeros(v * m + 1)
-            d[::v] = binom.pmf(np.arange(m + 1), m, 0.5)
+            d[::v] = _half_binomial(m)
             pmf = np.convolve(pmf, d)
     return np.cumsum(pmf)
 
