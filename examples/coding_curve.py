@@ -1,6 +1,7 @@
 """Message success against raw bit-error rate: the old repetition code (8-bit length, data, CRC-8,
-repeated, majority vote) beside the new coding (data + 20-bit keyed check, tail-biting K=7 rate-1/3
-convolutional code rate-matched to the carriers, soft Viterbi), through the framework's own coding
+repeated, majority vote), the first soft coding (data + 20-bit keyed check, tail-biting K=7 rate-1/3
+LTE code, soft Viterbi: ``tbcc7``) and today's default (the keyed random code up to 20 bits, the K=9
+rate-1/4 convolutional code with the same check above: ``default``), through the framework's own coding
 functions, whitening and key permutation.
 
     .venv/bin/python examples/coding_curve.py [--frames 10000] [--out examples/out/coding_curve]
@@ -14,8 +15,11 @@ Channels (applied to the carriers in carrier order, before the key's permutation
   chosen so that P(flip) = p (what the methods' signed reliabilities give the decoder).
 
 A frame succeeds when the exact payload comes back (the old code: length and CRC agree and the data
-is right; the new: the keyed check agrees and the data is right); a *wrong* message (accepted but
+is right; the others: the decoder accepts and the data is right); a *wrong* message (accepted but
 different) is counted separately. Writes a CSV, a Markdown table and a plot.
+
+Configurations: k payload bits on C carriers, among them every k at exactly a third of the capacity
+``meshmark capacity`` reports (C = 1.5 (3 k + 20)) and at (k + 20) / C = 1/3.
 """
 from __future__ import annotations
 
@@ -34,7 +38,7 @@ from meshmark.watermark import coding, keys  # noqa: E402
 from meshmark.watermark.payload import Payload, decode as old_decode, repeat_to  # noqa: E402
 
 # (payload bits, carriers)
-CONFIGS = [(16, 54), (16, 72), (16, 108), (16, 144), (64, 252)]
+CONFIGS = [(16, 54), (16, 72), (16, 102), (16, 108), (16, 144), (24, 138), (32, 174), (64, 252), (64, 318)]
 BERS = [0.02, 0.05, 0.08, 0.10, 0.12, 0.15]
 CHANNELS = ["uniform", "bursty", "soft"]
 
@@ -66,14 +70,14 @@ def channel(kind: str, p: float, C: int, rng) -> np.ndarray:
 
 
 def run_point(k: int, C: int, kind: str, p: float, frames: int, rng):
-    old_ok = new_ok = old_wrong = new_wrong = 0
+    old_ok = new_ok = old_wrong = new_wrong = k7_ok = k7_wrong = 0
     for f in range(frames):
-        key = f"k{f}"
+        key = f"k{f % 8}"  # 8 keys in turn: the keyed codebooks stay cached (the noise is fresh per frame)
         data = rng.integers(0, 2, k).astype(np.uint8)
         pl = Payload("bits", data)
         order = keys.permutation(key, "laplacian", C)
         s = channel(kind, p, C, rng)[order]  # carrier order -> coded-bit order
-        # new
+        # default, and the K = 7 convolutional code it replaced
         c = coding.encode(data, "bits", key, "laplacian", C)
         got, _ = coding.decode((2.0 * c - 1) * s, k, "bits", key, "laplacian")
         if got is not None:
@@ -81,6 +85,13 @@ def run_point(k: int, C: int, kind: str, p: float, frames: int, rng):
                 new_ok += 1
             else:
                 new_wrong += 1
+        c = coding.encode(data, "bits", key, "laplacian", C, coding.TBCC)
+        got, _ = coding.decode((2.0 * c - 1) * s, k, "bits", key, "laplacian", coding.TBCC)
+        if got is not None:
+            if np.array_equal(got, data):
+                k7_ok += 1
+            else:
+                k7_wrong += 1
         # old
         if C >= pl.frame_bits:
             co = repeat_to(pl.frame(), C)
@@ -91,51 +102,61 @@ def run_point(k: int, C: int, kind: str, p: float, frames: int, rng):
                     old_ok += 1
                 else:
                     old_wrong += 1
-    return old_ok / frames, new_ok / frames, old_wrong, new_wrong
+    return old_ok / frames, k7_ok / frames, new_ok / frames, old_wrong, k7_wrong, new_wrong
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--frames", type=int, default=10_000)
+    ap.add_argument("--channels", default=",".join(CHANNELS), help="comma-separated subset of " + ",".join(CHANNELS))
     ap.add_argument("--out", default=os.path.join(HERE, "out", "coding_curve"))
     a = ap.parse_args(argv)
     from _common import write_csv
     rng = np.random.default_rng(2013)
     rows = []
     t0 = time.perf_counter()
-    for kind in CHANNELS:
+    channels = [c for c in a.channels.split(",") if c]
+    for kind in channels:
         for k, C in CONFIGS:
             for p in BERS:
-                o, n, ow, nw = run_point(k, C, kind, p, a.frames, rng)
-                rows.append({"channel": kind, "payload_bits": k, "carriers": C, "payload_per_carrier": round(k / C, 3),
+                o, k7, n, ow, k7w, nw = run_point(k, C, kind, p, a.frames, rng)
+                rows.append({"channel": kind, "payload_bits": k, "carriers": C, "scheme": coding.scheme_for(k),
+                             "payload_per_capacity": round(k / coding.max_data_bits(C), 3),
                              "info_per_carrier": round((k + coding.CHECK_BITS) / C, 3), "ber": p, "frames": a.frames,
-                             "old_success": o, "new_success": n, "old_wrong": ow, "new_wrong": nw})
-                print(f"{kind:8s} k={k:3d} C={C:3d} p={p:.2f}: old {o:.4f} new {n:.4f} wrong {ow}/{nw} "
-                      f"({time.perf_counter() - t0:.0f} s)", flush=True)
+                             "old_success": o, "tbcc7_success": k7, "new_success": n,
+                             "old_wrong": ow, "tbcc7_wrong": k7w, "new_wrong": nw})
+                print(f"{kind:8s} k={k:3d} C={C:3d} p={p:.2f}: old {o:.4f} tbcc7 {k7:.4f} default {n:.4f} "
+                      f"wrong {ow}/{k7w}/{nw} ({time.perf_counter() - t0:.0f} s)", flush=True)
     os.makedirs(a.out, exist_ok=True)
     write_csv(rows, os.path.join(a.out, "coding_curve.csv"))
     with open(os.path.join(a.out, "coding_curve.md"), "w") as f:
-        f.write("| channel | k | C | (k+20)/C | " + " | ".join(f"p={p:.2f} old / new" for p in BERS) + " |\n")
-        f.write("|---|---|---|---|" + "---|" * len(BERS) + "\n")
-        for kind in CHANNELS:
+        f.write("| channel | k | C | k / capacity | (k+20)/C | " +
+                " | ".join(f"p={p:.2f} old / tbcc7 / default" for p in BERS) + " |\n")
+        f.write("|---|---|---|---|---|" + "---|" * len(BERS) + "\n")
+        for kind in channels:
             for k, C in CONFIGS:
                 r = [x for x in rows if x["channel"] == kind and x["payload_bits"] == k and x["carriers"] == C]
-                f.write(f"| {kind} | {k} | {C} | {(k + 20) / C:.2f} | " +
-                        " | ".join(f"{x['old_success']:.4f} / {x['new_success']:.4f}" for x in r) + " |\n")
+                f.write(f"| {kind} | {k} | {C} | {k / coding.max_data_bits(C):.2f} | {(k + 20) / C:.2f} | " +
+                        " | ".join(f"{x['old_success']:.3f} / {x['tbcc7_success']:.3f} / {x['new_success']:.3f}"
+                                   for x in r) + " |\n")
+        wrong = sum(x["new_wrong"] + x["tbcc7_wrong"] for x in rows)
+        f.write(f"\nWrong messages (tbcc7 + default) in {2 * len(rows) * a.frames:,} decoded frames: {wrong}\n")
     try:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, axes = plt.subplots(1, len(CHANNELS), figsize=(5 * len(CHANNELS), 4), sharey=True)
-        for ax, kind in zip(axes, CHANNELS):
+        fig, axes = plt.subplots(1, len(channels), figsize=(5 * len(channels), 4), sharey=True)
+        for ax, kind in zip(np.atleast_1d(axes), channels):
             for i, (k, C) in enumerate(CONFIGS):
                 r = [x for x in rows if x["channel"] == kind and x["payload_bits"] == k and x["carriers"] == C]
                 col = f"C{i}"
-                ax.plot(BERS, [x["new_success"] for x in r], "-o", color=col, label=f"new k={k} C={C}")
+                ax.plot(BERS, [x["new_success"] for x in r], "-o", color=col, label=f"default k={k} C={C}")
+                ax.plot(BERS, [x["tbcc7_success"] for x in r], ":", color=col, label=f"tbcc7 k={k} C={C}")
                 ax.plot(BERS, [x["old_success"] for x in r], "--x", color=col, label=f"old k={k} C={C}")
             ax.set_title(f"{kind} bit errors")
             ax.set_xlabel("raw bit-error rate")
             ax.grid(alpha=.3)
+        axes = np.atleast_1d(axes)
         axes[0].set_ylabel(f"message success ({a.frames} frames / point)")
         axes[-1].legend(fontsize=7)
         fig.tight_layout()

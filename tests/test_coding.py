@@ -13,7 +13,7 @@ G = list(coding.GENERATORS)
 K = coding.CONSTRAINT
 
 
-def _reversed(g):  # commpy writes generators with the current input in the least significant bit
+def _reversed(g, K=K):  # commpy writes generators with the current input in the least significant bit
     return int(format(g, f"0{K}b")[::-1], 2)
 
 
@@ -21,9 +21,12 @@ def _metric(y, c):
     return float(np.dot(y, 2.0 * c - 1.0))
 
 
-def test_encoder_matches_commpy():
+@pytest.mark.parametrize("scheme", sorted(coding.CONVOLUTIONAL))
+def test_encoder_matches_commpy(scheme):
     cc = pytest.importorskip("commpy.channelcoding.convcode")
-    tr = cc.Trellis(np.array([K - 1]), np.array([[_reversed(g) for g in G]]))
+    G, K = coding.CONVOLUTIONAL[scheme]
+    G = list(G)
+    tr = cc.Trellis(np.array([K - 1]), np.array([[_reversed(g, K) for g in G]]))
     rng = np.random.default_rng(0)
     for L in (1, 6, 7, 40, 123):
         u = rng.integers(0, 2, L)
@@ -64,16 +67,17 @@ def test_tail_biting_decoder_against_brute_force_ml():
     assert same >= 294  # near-ML: measured 297/300 (frame errors 13 against ML's 12)
 
 
-@pytest.mark.parametrize("n_data", [1, 8, 16, 32, 100])
-def test_noise_free_decoding_at_every_rate(n_data):
+@pytest.mark.parametrize("n_data,scheme", [(1, None), (8, None), (16, None), (20, None), (21, None), (32, None),
+                                           (100, None), (32, coding.TBCC), (100, coding.TBCC)])
+def test_noise_free_decoding_at_every_rate(n_data, scheme):
     rng = np.random.default_rng(n_data)
     L = coding.info_bits(n_data)
     for C in sorted({coding.min_carriers(n_data), coding.min_carriers(n_data) + 1, 2 * L, 3 * L - 1, 3 * L, 3 * L + 7,
-                     5 * L}):
+                     4 * L, 5 * L, 300}):
         data = rng.integers(0, 2, n_data).astype(np.uint8)
-        c = coding.encode(data, "bits", "k", "laplacian", C)
+        c = coding.encode(data, "bits", "k", "laplacian", C, scheme)
         assert c.size == C
-        got, reason = coding.decode(2.0 * c - 1, n_data, "bits", "k", "laplacian")
+        got, reason = coding.decode(2.0 * c - 1, n_data, "bits", "k", "laplacian", scheme)
         assert reason == "" and np.array_equal(got, data), (n_data, C)
 
 
@@ -87,35 +91,45 @@ def test_rate_match_repeats_and_spreads():
     assert np.array_equal(first[:L], np.arange(L) * 3) and np.diff(g1).max() <= 4
 
 
-def test_check_is_keyed_and_wrong_keys_fail():
-    data = np.unpackbits(np.frombuffer(b"AB", np.uint8))
+@pytest.mark.parametrize("scheme", [coding.TBCC9, coding.TBCC])
+def test_check_is_keyed_and_wrong_keys_fail(scheme):
+    data = np.unpackbits(np.frombuffer(b"ABC", np.uint8))
     a, b = coding.check("k1", "laplacian", "text", data), coding.check("k2", "laplacian", "text", data)
     assert a.size == coding.CHECK_BITS and not np.array_equal(a, b)
-    c = coding.encode(data, "text", "k1", "laplacian", 200)
-    assert coding.decode(2.0 * c - 1, 16, "text", "k1", "laplacian")[0] is not None
-    assert coding.decode(2.0 * c - 1, 16, "text", "k2", "laplacian")[0] is None
+    c = coding.encode(data, "text", "k1", "laplacian", 200, scheme)
+    assert coding.decode(2.0 * c - 1, 24, "text", "k1", "laplacian", scheme)[0] is not None
+    assert coding.decode(2.0 * c - 1, 24, "text", "k2", "laplacian", scheme)[0] is None
 
 
-def test_survives_ten_percent_flips_at_rate_one_third():
-    """The design target, on 300 frames here (10^4 per point in bench/coding_curve.py)."""
+# measured on these frames: 299, 300, 296, 300, 299 of 300. 21-28 bits fall between the two schemes:
+# too long for the keyed code's search, too short for the K = 9 code to reach 99 % at rate 1/3
+# (98.3-98.7 %, docs/coding.md): 24 bits is asserted at its measured level, not at the target.
+@pytest.mark.parametrize("n_data,min_ok", [(16, 297), (20, 297), (24, 294), (32, 297), (64, 297)])
+def test_survives_ten_percent_flips_at_a_third_of_the_capacity(n_data, min_ok):
+    """The issue's target, on 300 frames here (10^4 per point in examples/coding_curve.py): a payload of
+    a third of what `meshmark capacity` reports (k_max = floor(C / 1.5) - 20 = 3 k) survives 10 %
+    uniform hard flips in >= 99 % of frames, with the default scheme (keyed code up to 20 bits, then
+    the K = 9 rate-1/4 convolutional code)."""
     rng = np.random.default_rng(3)
-    n_data, ok = 16, 0
-    C = 3 * coding.info_bits(n_data)
+    ok = 0
+    C = int(np.ceil(coding.MIN_RATE_DEN * (3 * n_data + coding.CHECK_BITS)))
+    assert coding.max_data_bits(C) == 3 * n_data
     for _ in range(300):
         data = rng.integers(0, 2, n_data).astype(np.uint8)
         c = coding.encode(data, "bits", "k", "laplacian", C)
         y = (2.0 * c - 1) * np.where(rng.random(C) < 0.10, -1, 1)
         got, _ = coding.decode(y, n_data, "bits", "k", "laplacian")
         ok += got is not None and np.array_equal(got, data)
-    # measured 97.5 % over 10^4 frames (examples/coding_curve.py); the normal approximation of the
-    # finite-length bound allows about 99.4 % for the best code of this size (docs/coding.md)
-    assert ok >= 285
+    assert ok >= min_ok, ok
 
 
-def test_random_soft_values_never_decode():
-    """Pure noise passes the 20-bit keyed check with probability 2^-20: none in 2,000 tries."""
+@pytest.mark.parametrize("n_data,scheme", [(16, coding.KEYED), (32, coding.TBCC9), (32, coding.TBCC)])
+def test_random_soft_values_never_decode(n_data, scheme):
+    """Pure noise is accepted with probability <= 1e-6 (the 20-bit keyed check, or the keyed code's
+    threshold): none in 2,000 tries."""
     rng = np.random.default_rng(4)
-    hits = sum(coding.decode(rng.normal(size=120), 16, "bits", "k", "laplacian")[0] is not None for _ in range(2000))
+    hits = sum(coding.decode(rng.normal(size=160), n_data, "bits", "k", "laplacian", scheme)[0] is not None
+               for _ in range(2000))
     assert hits == 0
 
 
@@ -138,7 +152,7 @@ def test_auto_is_deterministic_recorded_and_thesis_is_published(fandisk):
     a = embed(fandisk, payload="ACME", key="k")
     b = embed(fandisk, payload="ACME", key="k")
     assert a.keyfile.params == b.keyfile.params and np.array_equal(a.V, b.V)
-    assert a.keyfile.choice["mode"] == "auto" and a.keyfile.coding["scheme"] == coding.SCHEME
+    assert a.keyfile.choice["mode"] == "auto" and a.keyfile.coding["scheme"] == coding.TBCC9
     assert a.keyfile.coding["info_bits"] == 52 and a.capacity >= coding.min_carriers(32)
     # ladder capacities (default carrier "local") 27, 35, 49, 73, 100, 148, ...: 32 + 20 bits need 78,
     # the rung K = ceil(N/18) has 100 (thesis carrier: 26, 36, 48, 69, 93, 138)
@@ -188,10 +202,13 @@ def test_repetition_keyfiles_are_still_read(fandisk):
     assert x.detected and x.message == "1011" and x.cdr == 1.0
 
 
-def test_auto_falls_back_when_the_mark_does_not_take():
+def test_auto_falls_back_when_the_mark_does_not_take(monkeypatch):
     """vtk_trumpet (33 parts of 36-gons): with the default carrier "local" no rung of the ladder takes
-    a 4-byte text ("does not take"); the automatic choice then falls back to the published carrier,
-    records it, and the text reads back. Explicit parameters never fall back."""
+    the coded bits of a 4-byte text under the K = 7 convolutional scheme ("does not take"; whether a
+    mark takes depends on the bits, and under the K = 9 scheme this text happens to take); the automatic
+    choice then falls back to the published carrier, records it, and the text reads back. Explicit
+    parameters never fall back."""
+    monkeypatch.setattr(coding, "scheme_for", lambda n: coding.TBCC)
     m = meshmark.read_mesh(shared_mesh("corpus/vtk_trumpet.obj"))
     r = embed(m, payload="ACME", key="k")
     assert r.keyfile.params["carrier"] == "thesis" and r.keyfile.choice["fallback"] == {"carrier": "thesis"}

@@ -59,6 +59,8 @@ SCHEMA_CASES = [
     ("side_info.carriers", ["1", "2"], r"side_info.carriers lists 2 carriers but coding.n_coded is"),
     ("mesh.n_vertices", -1, r"mesh.n_vertices must be in 0..2147483647, got -1"),
     ("coding.n_coded", "30", r"coding must have an integer n_coded"),
+    ("coding.check_bits", 20, r"coding sizes are inconsistent with the payload \(info_bits must be 8, check_bits 0\)"),
+    ("coding.scheme", "ldpc", r"coding scheme must be one of 'keyed-aes-ml-v1', 'tbcc9-r14-mac20', 'tbcc7-r13-mac20' or 'repeat'"),
     ("weld", 1, r"field 'weld' must be a bool, got 1"),
     ("tag", KeyError, r"field 'tag' is missing"),
     ("payload", [], r"field 'payload' must be a dict"),

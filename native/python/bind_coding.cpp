@@ -1,6 +1,9 @@
 #include "bindings.h"
 
+#include "meshmark/codebook_disagreement.h"
 #include "meshmark/convolutional_code.h"
+
+#include <stdexcept>
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -39,6 +42,24 @@ void bind_coding(py::module_& m) {
       py::arg("llr"), py::arg("generators"), py::arg("K"), py::arg("n_info"), py::arg("tail_biting"),
       py::arg("wrap") = 48,
       "Soft-input Viterbi decoding (llr > 0 means 1); tail-biting by wrap-around over `wrap` steps.");
+  m.def(
+      "codebook_disagreement",
+      [](py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast> book,
+         py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast> received,
+         py::array_t<std::int32_t, py::array::c_style | py::array::forcecast> weights) {
+        if (book.ndim() != 2 || received.ndim() != 1 || received.shape(0) != book.shape(1) || weights.ndim() != 1 ||
+            weights.shape(0) != 8 * book.shape(1))
+          throw std::invalid_argument("codebook_disagreement: book (W, nb), received (nb,), weights (8 nb,)");
+        std::vector<std::int32_t> wt(weights.data(), weights.data() + weights.size());
+        std::vector<std::int32_t> D;
+        {
+          py::gil_scoped_release nogil;
+          D = codebook_disagreement(book.data(), book.shape(0), static_cast<int>(book.shape(1)), received.data(), wt);
+        }
+        return py::array_t<std::int32_t>(static_cast<py::ssize_t>(D.size()), D.data());
+      },
+      py::arg("book"), py::arg("received"), py::arg("weights"),
+      "Weighted disagreement of every packed codeword (rows of book, MSB first) with the packed received word.");
 }
 
 }  // namespace meshmark::python

@@ -251,7 +251,9 @@ def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_b
                (keyfile, lambda p: save_keyfile(res.keyfile, p, overwrite=True))],  # checked above (--force)
               what=["marked mesh", "keyfile"])
     d = {"input": inp, "output": out, "keyfile": keyfile, "key_stored": store_key, **res.to_dict()}
-    text = (f"embedded {payload.data.size} payload bits ({res.keyfile.coding['info_bits']} with the keyed check, "
+    coded = res.keyfile.coding
+    how = (f"{coded['info_bits']} with the keyed check" if coded.get("check_bits") else "keyed code")
+    text = (f"embedded {payload.data.size} payload bits ({how}, "
             f"coded over {res.capacity} carriers) with the {method} method ({params_mode} parameters: "
             f"{METHODS[method].describe(res.keyfile.params)}) into {out}\nkeyfile: {keyfile} (keep it private"
             + ("" if store_key else "; it does not hold the key: extract needs --key") + ")")

@@ -16,9 +16,10 @@ and this module does the rest, identically for every method:
    apart: without welding the edge graph of such a mesh is a set of loose pieces. The choice is
    stored in the keyfile and extraction welds the same way;
 1. choose the parameters (``params="auto"``, the default: :mod:`.auto`; ``"thesis"``: the published
-   defaults) and code the payload (:mod:`.coding`: data + 20-bit keyed check, tail-biting
-   convolutional code rate-matched to all carriers; keyfiles of meshmark <= 0.x used the repetition
-   code of :mod:`.payload`, still read);
+   defaults) and code the payload (:mod:`.coding`: up to 20 bits a keyed random code decoded by
+   maximum likelihood, beyond a 20-bit keyed check and a tail-biting convolutional code, rate-matched
+   to all carriers; older keyfiles name the K = 7 convolutional code or the repetition code of
+   :mod:`.payload`, still read);
 2. whiten the coded bits and assign them to carriers in a key-dependent order (:mod:`.keys`);
 3. embed, then re-extract and re-embed the carriers that did not take (at most 4 rounds);
 4. write the keyfile (:mod:`.keyfile`).
@@ -27,8 +28,10 @@ Extraction un-permutes and un-whitens with the keyfile's key (or a key given), c
 with the expected ones (matches, NC, CDR), computes the false-alarm probability P(X >= matches),
 X ~ Bin(n, 1/2), and decides ``detected = p_false_alarm < 1e-6`` (:data:`DETECTION_THRESHOLD`): a
 random or unmarked mesh, or a wrong key, is called marked with probability below one in a million.
-The message is decoded by a soft Viterbi decoder from the methods' signed reliabilities and accepted
-only if its keyed check agrees *and* the mark is detected: no message is returned without a detection.
+The message is decoded from the methods' signed reliabilities (maximum likelihood over the keyed
+codebook, or soft Viterbi) and accepted only if the decoder certifies it (a wrong message below 1e-6
+per attempt: the keyed code's threshold or the keyed check) *and* the mark is detected: no message is
+returned without a detection.
 """
 from __future__ import annotations
 
@@ -168,10 +171,10 @@ def _coded(payload: Payload, key: str, method: str, n: int, scheme: str) -> np.n
     """(n,) coded bits of the payload under ``scheme`` (before whitening)."""
     if scheme == "repeat":  # keyfiles before the convolutional code
         return repeat_to(payload.frame(), n)
-    return _coding.encode(payload.data, payload.kind, key, method, n)
+    return _coding.encode(payload.data, payload.kind, key, method, n, scheme)
 
 
-def _expected(payload: Payload, key: str, method: str, n: int, scheme: str = _coding.SCHEME):
+def _expected(payload: Payload, key: str, method: str, n: int, scheme: str):
     coded = _coded(payload, key, method, n, scheme)
     white = _keys.whitening(key, method, n)
     order = _keys.permutation(key, method, n)
@@ -257,7 +260,7 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     from .auto import fallbacks
     later = fallbacks(mesh, m, method_params, choice)
     while True:
-        coded, white, order = _expected(pl, key, method, cap)
+        coded, white, order = _expected(pl, key, method, cap, _coding.scheme_for(pl.data.size))
         channel = coded ^ white
         carriers = np.asarray(ids)[order]  # carrier of coded bit i
         try:
@@ -274,8 +277,7 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
         stats["key_bins"] = True
     report(0.95, "writing keyfile")
     kf = _make_keyfile(m, p, key, weld, pl, side, ids, mesh, mesh_in, Vm, choice,
-                       {"scheme": _coding.SCHEME, "info_bits": _coding.info_bits(pl.data.size),
-                        "check_bits": _coding.CHECK_BITS, "n_coded": cap}, store_key=store_key)
+                       _coding.coding_field(pl.data.size, cap), store_key=store_key)
     if w is not None:
         Vm = w.scatter(Vm)
         stats["n_merged"] = w.n_merged
@@ -365,7 +367,7 @@ def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
     elif scheme == "repeat":
         found, _, reason = _decode_repeat(bits, np.abs(soft), int(kf.coding["frame_bits"]), pl.kind)
     else:
-        data, reason = _coding.decode(soft, pl.data.size, pl.kind, key, kf.method)
+        data, reason = _coding.decode(soft, pl.data.size, pl.kind, key, kf.method, scheme)
         if data is not None:
             found = Payload(pl.kind, data)
             try:

@@ -5,8 +5,8 @@ It is written by ``embed`` and kept by the owner; the marked mesh can be shared 
 ``format`` ("meshmark-keyfile"), ``version`` (2), ``method``, ``params`` (the method's parameters
 as used), ``weld`` (whether vertices at equal positions were welded before the method ran; extraction
 welds the same way), ``key``, ``payload`` (``kind``, ``n_bits``, ``bits`` as a 0/1 string, ``sha256`` of that
-string), ``coding`` (``scheme``: ``"tbcc7-r13-mac20"`` with ``info_bits``, ``check_bits``, ``n_coded``
-(:mod:`.coding`), or the older ``"repeat"`` with ``frame_bits``, ``n_coded``), ``choice`` (how the
+string), ``coding`` (``scheme``: ``"keyed-aes-ml-v1"``, ``"tbcc9-r14-mac20"`` or ``"tbcc7-r13-mac20"``, with
+``info_bits``, ``check_bits``, ``n_coded`` (:mod:`.coding`), or the older ``"repeat"`` with ``frame_bits``, ``n_coded``), ``choice`` (how the
 parameters were chosen: ``mode`` "auto" / "thesis" / "given" and the rule's details, :mod:`.auto`;
 optional), ``side_info`` (method data
 such as bin ranges and the carrier list), ``mesh`` (vertex/face counts of the mesh the method ran on,
@@ -285,11 +285,20 @@ def verify_keyfile_tag(d: dict, key: str, source: str = "keyfile") -> bool:
 
 
 def _check_coding(c: dict, n_bits: int, bad) -> None:
-    """The ``coding`` field: the convolutional scheme (:mod:`.coding`) or the older repetition code."""
+    """The ``coding`` field: the keyed code or the convolutional scheme (:mod:`.coding`), or the older
+    repetition code."""
     from . import coding
     if not isinstance(c.get("n_coded"), int) or isinstance(c.get("n_coded"), bool):
         bad("coding must have an integer n_coded")
-    if c.get("scheme") == coding.SCHEME:
+    if c.get("scheme") == coding.KEYED:
+        if not 1 <= n_bits <= coding.keyed_code.MAX_DATA_BITS:
+            bad(f"coding scheme {coding.KEYED!r} takes 1 to {coding.keyed_code.MAX_DATA_BITS} payload bits, "
+                f"the payload has {n_bits}")
+        if c.get("info_bits") != n_bits or c.get("check_bits") != 0:
+            bad(f"coding sizes are inconsistent with the payload (info_bits must be {n_bits}, check_bits 0)")
+        if c["n_coded"] < coding.min_carriers(n_bits):
+            bad(f"coding: {c['n_coded']} coded bits cannot carry {n_bits} payload bits")
+    elif c.get("scheme") in coding.CONVOLUTIONAL:
         if c.get("info_bits") != coding.info_bits(n_bits) or c.get("check_bits") != coding.CHECK_BITS:
             bad(f"coding sizes are inconsistent with the payload (info_bits must be {coding.info_bits(n_bits)}, "
                 f"check_bits {coding.CHECK_BITS})")
@@ -301,7 +310,8 @@ def _check_coding(c: dict, n_bits: int, bad) -> None:
         if c["frame_bits"] != n_bits + 16 or c["n_coded"] < c["frame_bits"]:
             bad("coding sizes are inconsistent with the payload")
     else:
-        bad(f"coding scheme must be {coding.SCHEME!r} or 'repeat', got {c.get('scheme')!r}")
+        bad(f"coding scheme must be one of {', '.join(map(repr, coding.SCHEMES))} or 'repeat', "
+            f"got {c.get('scheme')!r}")
 
 
 def _choice_field(choice) -> dict:
