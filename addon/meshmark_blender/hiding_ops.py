@@ -323,11 +323,16 @@ class MESHMARK_OT_steganalysis_detect(_Base, bpy.types.Operator):
         t_native = time.perf_counter() - t0
         per = dict(sorted(r["methods"].items(), key=lambda kv: -kv[1]))
         result = {"ok": True, "object": obj.name, "model": path or "built-in", "marked": bool(r["marked"]),
-                  "probability": r["probability"], "methods": per, "feature_set": r["feature_set"],
-                  "classifier": r["classifier"], "seconds_native": t_native}
+                  "probability": r["probability"], "threshold": r.get("threshold", 0.5), "methods": per,
+                  "feature_set": r["feature_set"], "classifier": r["classifier"], "seconds_native": t_native}
+        if "operating_point" in r:
+            result["operating_point"] = r["operating_point"]
         top = next(iter(per.items()), None)
-        text = (f"meshmark: '{obj.name}': something hidden with probability {r['probability']:.2f}"
-                + (f"; most likely {top[0]} ({top[1]:.2f})" if top else ""))
+        # the verdict first: the universal score means "marked" only above the model's threshold (the
+        # built-in detector's is 0.94, set for few false alarms; docs/steganalysis.md §10)
+        verdict = "something is probably hidden" if r["marked"] else "nothing hidden found"
+        text = (f"meshmark: '{obj.name}': {verdict} (score {r['probability']:.2f}, threshold "
+                f"{result['threshold']:.2f})" + (f"; closest method {top[0]} ({top[1]:.2f})" if r["marked"] and top else ""))
         return self.finish(context, result, "WARNING" if r["marked"] else "INFO", text)
 
 

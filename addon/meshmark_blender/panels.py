@@ -168,7 +168,9 @@ def _analysis_lines(d):
 
 
 def _detect_lines(d):
-    out = [(f"Hidden data: {100 * d['probability']:.0f}%", "ERROR" if d["marked"] else "CHECKMARK")]
+    verdict = "probably" if d["marked"] else "not found"
+    out = [(f"Hidden data: {verdict}", "ERROR" if d["marked"] else "CHECKMARK"),
+           (f"Score {d['probability']:.2f}, needs {d.get('threshold', 0.5):.2f}", "NONE")]
     for m, p in list(d["methods"].items())[:3]:
         base, _, variant = m.partition(":")
         label = _params.method_label(base) + (" (auto)" if variant else "")
