@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 using namespace meshmark;
@@ -61,6 +63,62 @@ TEST(LaplacianCarrier, EdgeAndAdjacencyOverloadsAgree) {
       EXPECT_NEAR(Fe.value[i], Fa.value[i], 1e-12 * (1 + std::abs(Fe.value[i]))) << "kind " << k;
       EXPECT_NEAR(Fe.gain[i], Fa.gain[i], 1e-12 * (1 + std::abs(Fe.gain[i]))) << "kind " << k;
     }
+  }
+}
+
+namespace {
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }  // -0 != +0, NaN == NaN
+}  // namespace
+
+// The embedding's fast path for the default carrier (laplacian_local_ring / laplacian_local_change)
+// against the general adjacency overload it replaces there, bit for bit (signed zeros included): a
+// triangulated grid, partly flat (L_i = 0, so no direction) and partly jittered, an isolated vertex,
+// neighbour lists in sorted and in shuffled order (the embedding's breadth-first renumbering leaves
+// them unsorted), targets above and below the values.
+TEST(LaplacianCarrier, LocalRingIsBitIdenticalToTheGeneralPath) {
+  const int g = 30;
+  const Index n = g * g + 1;  // + one vertex without edges
+  MatrixX3dR V = MatrixX3dR::Zero(n, 3);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  for (int r = 0; r < g; ++r)
+    for (int c = 0; c < g; ++c) {
+      const Index i = r * g + c;
+      V(i, 0) = c, V(i, 1) = r;
+      if (r >= g / 2) V(i, 0) += u(rng), V(i, 1) += u(rng), V(i, 2) = u(rng);  // the lower half stays flat
+    }
+  V(n - 1, 0) = 100;
+  std::vector<Index> tri;
+  for (int r = 0; r + 1 < g; ++r)
+    for (int c = 0; c + 1 < g; ++c) {
+      const Index a = r * g + c, b = a + 1, d = a + g, e = d + 1;
+      tri.insert(tri.end(), {a, b, e, a, e, d});
+    }
+  MatrixX3iR T = Eigen::Map<MatrixX3iR>(tri.data(), static_cast<Eigen::Index>(tri.size() / 3), 3);
+  const MatrixX2iR E = unique_edges(n, Polygons::from_triangles(T)).E;
+  Adjacency A = vertex_adjacency(n, E);
+  const MatrixX3iR none(0, 3);
+  for (int shuffled = 0; shuffled < 2; ++shuffled) {
+    if (shuffled)
+      for (Index i = 0; i < n; ++i) std::shuffle(A.nbr.data() + A.ptr[i], A.nbr.data() + A.ptr[i + 1], rng);
+    const LaplacianCarrierField F = laplacian_carrier(V, A, none, LaplacianCarrier::Local, 1.0, true);
+    const LocalRingCarrier R = laplacian_local_ring(V, A);
+    Eigen::VectorXd dt = F.value;
+    std::uniform_real_distribution<double> p(0, 1);
+    int zero_dir = 0;
+    for (Index i = 0; i < n; ++i) {
+      ASSERT_TRUE(same_bits(R.value[i], F.value[i])) << "vertex " << i << (shuffled ? " (shuffled lists)" : "");
+      if (p(rng) < 0.3 || i == n - 1) dt[i] = F.value[i] + u(rng);
+      zero_dir += dt[i] != F.value[i] && F.gain[i] == 0;
+    }
+    EXPECT_GT(zero_dir, 5);  // moved vertices without a direction (flat part, isolated vertex) are covered
+    const MatrixX3dR dL = laplacian_local_change(V, A, R, dt);
+    for (Index i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) {
+        // carrier_change in laplacian_watermark.cpp: direction_i (gain_i (d^_i - d_i)), 0 where unmoved
+        const double want = dt[i] != F.value[i] ? F.direction(i, c) * (F.gain[i] * (dt[i] - F.value[i])) : 0.0;
+        ASSERT_TRUE(same_bits(dL(i, c), want)) << "vertex " << i << " component " << c;
+      }
   }
 }
 

@@ -47,4 +47,21 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
                                         const Eigen::Ref<const MatrixX3iR>& T, LaplacianCarrier kind,
                                         double scale = 1.0, bool with_direction = false, double compress = 0.0);
 
+// The embedding's rounds for the Local carrier without compression (laplacian_watermark.cpp): s_i of
+// every vertex, bit-identical to the adjacency overload's value, without the direction and gain of
+// every vertex (only the moved ones need them: laplacian_local_change). One gather pass; each edge
+// length is computed once (j > i) and added to both ends, branch-free (the j > i test of the overload
+// above mispredicts on most neighbours). ell keeps l_i, the mean incident edge length.
+struct LocalRingCarrier {
+  Eigen::VectorXd value;  // (n,) s_i = ||L_i|| / l_i (eq. 7.1.5 over l_i); 0 without edges
+  Eigen::VectorXd ell;    // (n,) l_i, summed exactly as the adjacency overload sums it
+};
+LocalRingCarrier laplacian_local_ring(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A);
+
+// dL_i = direction_i gain_i (d^_i - s_i) (eq. 7.2.19 generalised, laplacian_carrier.h above) for the
+// vertices whose target d_target differs from s_i, 0 elsewhere: L_i is gathered again for those alone.
+// Bit-identical to the same product formed from laplacian_carrier(V, A, ..., Local, 1, true).
+MatrixX3dR laplacian_local_change(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A,
+                                  const LocalRingCarrier& R, const Eigen::VectorXd& d_target);
+
 }  // namespace meshmark
