@@ -131,7 +131,7 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
   return finish(V, T, kind, scale, with_direction, compress, S);
 }
 
-LocalRingCarrier laplacian_local_ring(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A) {
+void laplacian_local_ring(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A, LocalRingCarrier& out) {
   // The same arithmetic, in the same order, as the Local branch of the adjacency overload above:
   // L_i = sum_j (x_i - x_j) over the neighbours in list order (eqs. 7.1.2-7.1.3), d_i = ||L_i||
   // (eq. 7.1.5), l_i = (elen_i + l) / deg_i with elen_i the lengths added by the neighbours j < i (in
@@ -139,10 +139,10 @@ LocalRingCarrier laplacian_local_ring(const Eigen::Ref<const MatrixX3dR>& V, con
   // computed and masked to +0 for j < i: adding +0 leaves l and elen_j unchanged (both are >= +0), and
   // elen_j of a j < i is no longer read. No branch on j > i, which mispredicts on most neighbours.
   const Eigen::Index n = V.rows();
-  LocalRingCarrier out;
   out.value.resize(n);
   out.ell.resize(n);
-  Eigen::VectorXd elen = Eigen::VectorXd::Zero(n);
+  out.elen.setZero(n);
+  double* elen = out.elen.data();
   for (Eigen::Index i = 0; i < n; ++i) {
     double x = 0, y = 0, z = 0, l = 0;
     const double xi = V(i, 0), yi = V(i, 1), zi = V(i, 2);
@@ -164,13 +164,12 @@ LocalRingCarrier laplacian_local_ring(const Eigen::Ref<const MatrixX3dR>& V, con
     out.ell[i] = ell;
     out.value[i] = deg == 0 || !(ell > 0) ? 0.0 : std::sqrt(x * x + y * y + z * z) / ell;
   }
-  return out;
 }
 
-MatrixX3dR laplacian_local_change(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A,
-                                  const LocalRingCarrier& R, const Eigen::VectorXd& d_target) {
+void laplacian_local_change(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A, const LocalRingCarrier& R,
+                            const Eigen::VectorXd& d_target, MatrixX3dR& dL) {
   const Eigen::Index n = V.rows();
-  MatrixX3dR dL = MatrixX3dR::Zero(n, 3);
+  dL.setZero(n, 3);
   for (Eigen::Index i = 0; i < n; ++i) {
     if (d_target[i] == R.value[i]) continue;
     // direction_i and gain_i exactly as the adjacency overload forms them (0 where it leaves them 0)
@@ -189,7 +188,6 @@ MatrixX3dR laplacian_local_change(const Eigen::Ref<const MatrixX3dR>& V, const A
     const double s = gain * (d_target[i] - R.value[i]);  // eq. 7.2.19 generalised
     dL(i, 0) = dir[0] * s, dL(i, 1) = dir[1] * s, dL(i, 2) = dir[2] * s;
   }
-  return dL;
 }
 
 namespace {

@@ -336,7 +336,7 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     L = laplacian_coordinates(V, A, eps_measure);  // eq. 7.1.2
     d = L.rowwise().norm() / opt.scale;             // eq. 7.1.5
   } else if (local_ring) {
-    ring = laplacian_local_ring(V, A);
+    laplacian_local_ring(V, A, ring);
     d = ring.value;
   } else {
     field = laplacian_carrier(V, A, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
@@ -346,9 +346,11 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
   LaplacianEmbedResult R;
   R.d_target = d;
   R.n_moved = select_targets(d, hist, pairs, bits, opt, opt.thesis_exact, R.d_target).n_moved;
-  MatrixX3dR dL = thesis_carrier ? length_change(L, d, R.d_target)
-                  : local_ring   ? laplacian_local_change(V, A, ring, R.d_target)
-                                 : carrier_change(field, d, R.d_target);
+  MatrixX3dR dL;
+  if (local_ring)
+    laplacian_local_change(V, A, ring, R.d_target, dL);
+  else
+    dL = thesis_carrier ? length_change(L, d, R.d_target) : carrier_change(field, d, R.d_target);
 
   if (opt.thesis_exact) {
     // §7.2.2: X^ = M^-1 L^ with M = K - eps I (eq. 7.1.4), L^ = L + dL.
@@ -378,7 +380,7 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
       // on the 1-ring's edge lengths and normals too: re-read and top up, as the iterative rounds do.
       if (thesis_carrier || round + 1 >= opt.max_rounds) break;
       if (local_ring) {
-        ring = laplacian_local_ring(R.V, A);
+        laplacian_local_ring(R.V, A, ring);
         d = ring.value;
       } else {
         field = laplacian_carrier(R.V, A, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
@@ -391,7 +393,10 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
       R.n_moved += S.n_moved;
       for (Index i = 0; i < n; ++i)
         if (dt[i] != d[i]) R.d_target[i] = dt[i];
-      dL = local_ring ? laplacian_local_change(R.V, A, ring, dt) : carrier_change(field, d, dt);
+      if (local_ring)
+        laplacian_local_change(R.V, A, ring, dt, dL);
+      else
+        dL = carrier_change(field, d, dt);
     }
     return R;
   }
@@ -430,7 +435,7 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
       L = laplacian_coordinates(X, Ap, 0.0);
       d = L.rowwise().norm() / opt.scale;
     } else if (local_ring) {
-      ring = laplacian_local_ring(X, Ap);
+      laplacian_local_ring(X, Ap, ring);
       d = ring.value;
     } else {
       field = laplacian_carrier(X, Ap, Tp, opt.carrier, opt.scale, true, opt.compress);
@@ -443,9 +448,10 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     R.n_moved += S.n_moved;
     for (Index k = 0; k < n; ++k)
       if (dt[k] != d[k]) R.d_target[order[k]] = dt[k];
-    dLp = thesis_carrier ? length_change(L, d, dt)
-          : local_ring   ? laplacian_local_change(X, Ap, ring, dt)
-                         : carrier_change(field, d, dt);
+    if (local_ring)
+      laplacian_local_change(X, Ap, ring, dt, dLp);
+    else
+      dLp = thesis_carrier ? length_change(L, d, dt) : carrier_change(field, d, dt);
   }
   R.V.resize(n, 3);
   for (Index k = 0; k < n; ++k) R.V.row(order[k]) = X.row(k);

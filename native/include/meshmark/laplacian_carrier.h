@@ -55,13 +55,16 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
 struct LocalRingCarrier {
   Eigen::VectorXd value;  // (n,) s_i = ||L_i|| / l_i (eq. 7.1.5 over l_i); 0 without edges
   Eigen::VectorXd ell;    // (n,) l_i, summed exactly as the adjacency overload sums it
+  Eigen::VectorXd elen;   // scratch
 };
-LocalRingCarrier laplacian_local_ring(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A);
+// Fills `out`, reusing its storage (the embedding calls this every round: no fresh pages to fault in).
+void laplacian_local_ring(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A, LocalRingCarrier& out);
 
 // dL_i = direction_i gain_i (d^_i - s_i) (eq. 7.2.19 generalised, laplacian_carrier.h above) for the
 // vertices whose target d_target differs from s_i, 0 elsewhere: L_i is gathered again for those alone.
 // Bit-identical to the same product formed from laplacian_carrier(V, A, ..., Local, 1, true).
-MatrixX3dR laplacian_local_change(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A,
-                                  const LocalRingCarrier& R, const Eigen::VectorXd& d_target);
+// dL is resized to (n, 3) and overwritten (its storage reused).
+void laplacian_local_change(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A, const LocalRingCarrier& R,
+                            const Eigen::VectorXd& d_target, MatrixX3dR& dL);
 
 }  // namespace meshmark
