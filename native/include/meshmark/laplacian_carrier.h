@@ -49,9 +49,10 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
 
 // The embedding's rounds for the Local carrier without compression (laplacian_watermark.cpp): s_i of
 // every vertex, bit-identical to the adjacency overload's value, without the direction and gain of
-// every vertex (only the moved ones need them: laplacian_local_change). One gather pass; each edge
-// length is computed once (j > i) and added to both ends, branch-free (the j > i test of the overload
-// above mispredicts on most neighbours). ell keeps l_i, the mean incident edge length.
+// every vertex (only the moved ones need them: laplacian_local_change). One gather pass, branch-free:
+// every neighbour's edge length is computed and the ones with j < i are masked to +0 (the j > i test
+// of the overload above mispredicts on most neighbours and cost more than the second square root).
+// ell keeps l_i, the mean incident edge length.
 struct LocalRingCarrier {
   Eigen::VectorXd value;  // (n,) s_i = ||L_i|| / l_i (eq. 7.1.5 over l_i); 0 without edges
   Eigen::VectorXd ell;    // (n,) l_i, summed exactly as the adjacency overload sums it
