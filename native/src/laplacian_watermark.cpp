@@ -424,6 +424,9 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
       for (int c = 0; c < 3; ++c) Tp(t, c) = inv[(*opt.triangles)(t, c)];
   }
   MatrixX3dR dX(n, 3);
+  // the rounds' scalar in the breadth-first numbering: branch-free while the mesh fits in the cache
+  // (laplacian_carrier.h; the same values either way)
+  const bool ring_branch_free = n <= (Index(1) << 18);
   for (int round = 0;; ++round) {
     remove_component_mean(comp_p, n_comp, dLp);
     R.iterations += pcg(Ap, eps_solve, dLp, opt.iterations, dX);
@@ -435,7 +438,7 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
       L = laplacian_coordinates(X, Ap, 0.0);
       d = L.rowwise().norm() / opt.scale;
     } else if (local_ring) {
-      laplacian_local_ring(X, Ap, ring);
+      laplacian_local_ring(X, Ap, ring, ring_branch_free);
       d = ring.value;
     } else {
       field = laplacian_carrier(X, Ap, Tp, opt.carrier, opt.scale, true, opt.compress);

@@ -103,12 +103,15 @@ TEST(LaplacianCarrier, LocalRingIsBitIdenticalToTheGeneralPath) {
     if (shuffled)
       for (Index i = 0; i < n; ++i) std::shuffle(A.nbr.data() + A.ptr[i], A.nbr.data() + A.ptr[i + 1], rng);
     const LaplacianCarrierField F = laplacian_carrier(V, A, none, LaplacianCarrier::Local, 1.0, true);
+    LocalRingCarrier Rb;  // the branch-free variant: the same values
+    laplacian_local_ring(V, A, Rb, true);
     laplacian_local_ring(V, A, R);
     Eigen::VectorXd dt = F.value;
     std::uniform_real_distribution<double> p(0, 1);
     int zero_dir = 0;
     for (Index i = 0; i < n; ++i) {
       ASSERT_TRUE(same_bits(R.value[i], F.value[i])) << "vertex " << i << (shuffled ? " (shuffled lists)" : "");
+      ASSERT_TRUE(same_bits(Rb.value[i], F.value[i]) && same_bits(Rb.ell[i], R.ell[i])) << "branch-free, vertex " << i;
       if (p(rng) < 0.3 || i == n - 1) dt[i] = F.value[i] + u(rng);
       zero_dir += dt[i] != F.value[i] && F.gain[i] == 0;
     }
