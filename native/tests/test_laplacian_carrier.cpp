@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <vector>
 
 using namespace meshmark;
 
@@ -124,6 +125,52 @@ TEST(LaplacianCarrier, LocalRingIsBitIdenticalToTheGeneralPath) {
         const double want = dt[i] != F.value[i] ? F.direction(i, c) * (F.gain[i] * (dt[i] - F.value[i])) : 0.0;
         ASSERT_TRUE(same_bits(dL(i, c), want)) << "vertex " << i << " component " << c;
       }
+  }
+}
+
+// The edge-list overload (the extraction's scalar) against the plain scatter loop it must equal bit for
+// bit (its speed-ups must not change the sums): edges sorted as unique_edges lists them, shuffled, and
+// with a loop edge and a repeated edge.
+TEST(LaplacianCarrier, EdgeListIsBitIdenticalToThePlainScatter) {
+  MatrixX3dR V;
+  MatrixX3iR T;
+  icosahedron(V, T);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    for (int c = 0; c < 3; ++c) V(i, c) += u(rng);
+  const MatrixX2iR sorted = unique_edges(12, Polygons::from_triangles(T)).E;
+  auto plain = [&](const MatrixX2iR& E) {
+    MatrixX3dR L = MatrixX3dR::Zero(12, 3);
+    Eigen::VectorXd len = Eigen::VectorXd::Zero(12), out = Eigen::VectorXd::Zero(12);
+    std::vector<int> deg(12, 0);
+    for (Eigen::Index e = 0; e < E.rows(); ++e) {
+      const Index a = E(e, 0), b = E(e, 1);
+      const double x = V(a, 0) - V(b, 0), y = V(a, 1) - V(b, 1), z = V(a, 2) - V(b, 2);
+      const double l = std::sqrt(x * x + y * y + z * z);
+      L(a, 0) += x, L(a, 1) += y, L(a, 2) += z, len[a] += l;
+      L(b, 0) -= x, L(b, 1) -= y, L(b, 2) -= z, len[b] += l;
+      ++deg[a], ++deg[b];
+    }
+    for (int i = 0; i < 12; ++i) {
+      if (deg[i] == 0) continue;
+      const double ell = len[i] / deg[i];
+      if (ell > 0) out[i] = Eigen::RowVector3d(L(i, 0), L(i, 1), L(i, 2)).norm() / ell;
+    }
+    return out;
+  };
+  MatrixX2iR shuffled = sorted;
+  std::vector<Eigen::Index> perm(sorted.rows());
+  for (size_t k = 0; k < perm.size(); ++k) perm[k] = static_cast<Eigen::Index>(k);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  for (size_t k = 0; k < perm.size(); ++k) shuffled.row(static_cast<Eigen::Index>(k)) = sorted.row(perm[k]);
+  MatrixX2iR odd(sorted.rows() + 2, 2);
+  odd << sorted.topRows(5), Eigen::RowVector2i(4, 4), sorted.row(3), sorted.bottomRows(sorted.rows() - 5);
+  const MatrixX3iR none(0, 3);
+  for (const MatrixX2iR* E : std::vector<const MatrixX2iR*>{&sorted, &shuffled, &odd}) {
+    const Eigen::VectorXd want = plain(*E);
+    const Eigen::VectorXd got = laplacian_carrier(V, *E, none, LaplacianCarrier::Local).value;
+    for (int i = 0; i < 12; ++i) EXPECT_TRUE(same_bits(got[i], want[i])) << "vertex " << i;
   }
 }
 
