@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 #include <string>
 
@@ -52,6 +53,12 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
   const Eigen::Index n = V.rows();
   RingSums S;
   S.zero(n);
+  // The pass below reads V(a) in order but V(b) at random; a fresh V (the extraction's welded copy) is
+  // not in the cache yet, and every random row would wait for memory. One sequential read first lets
+  // the hardware prefetcher bring it in (the thesis path's L = -eps V does the same by the way).
+  double touch = 0;
+  for (Eigen::Index i = 0; i < n; ++i) touch += V(i, 0);
+  asm volatile("" : : "x"(touch));
   for (Eigen::Index e = 0; e < E.rows(); ++e) {  // one pass over the edges (scattered to both ends)
     const Index a = E(e, 0), b = E(e, 1);
     const double x = V(a, 0) - V(b, 0), y = V(a, 1) - V(b, 1), z = V(a, 2) - V(b, 2);
@@ -128,6 +135,91 @@ LaplacianCarrierField laplacian_carrier(const Eigen::Ref<const MatrixX3dR>& V, c
     S.deg[i] = static_cast<Index>(A.ptr[i + 1] - A.ptr[i]);
   }
   return finish(V, T, kind, scale, with_direction, compress, S);
+}
+
+namespace {
+// One vertex's ring (see laplacian_local_ring): L_i's components, and l, the sum of the lengths of the
+// edges to the neighbours j > i in list order, each also added to elen_j. Masked: every neighbour's
+// length is computed and masked to +0 for j < i (adding +0 leaves l and elen_j unchanged: both are
+// >= +0, and elen_j of a j < i is no longer read), no branch on j > i; otherwise the branch.
+template <bool Masked>
+inline void ring_sums(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A, Eigen::Index i, double* elen,
+                      double& x, double& y, double& z, double& l) {
+  x = 0, y = 0, z = 0, l = 0;
+  const double xi = V(i, 0), yi = V(i, 1), zi = V(i, 2);
+  for (Offset k = A.ptr[i]; k < A.ptr[i + 1]; ++k) {
+    const Index j = A.nbr[k];
+    const double dx = xi - V(j, 0), dy = yi - V(j, 1), dz = zi - V(j, 2);
+    x += dx, y += dy, z += dz;
+    if (Masked) {
+      const double e = std::sqrt(dx * dx + dy * dy + dz * dz);
+      std::uint64_t bits;
+      std::memcpy(&bits, &e, sizeof bits);
+      bits &= -static_cast<std::uint64_t>(j > i);  // e, or +0 for j < i
+      double w;
+      std::memcpy(&w, &bits, sizeof w);
+      l += w;
+      elen[j] += w;
+    } else if (j > i) {
+      const double e = std::sqrt(dx * dx + dy * dy + dz * dz);
+      l += e;
+      elen[j] += e;
+    }
+  }
+}
+
+template <bool Masked>
+void local_ring(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A, LocalRingCarrier& out) {
+  const Eigen::Index n = V.rows();
+  out.value.resize(n);
+  out.ell.resize(n);
+  out.elen.setZero(n);
+  double* elen = out.elen.data();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double x, y, z, l;
+    ring_sums<Masked>(V, A, i, elen, x, y, z, l);
+    const double deg = static_cast<double>(A.ptr[i + 1] - A.ptr[i]);
+    const double ell = (elen[i] + l) / std::max(deg, 1.0);
+    out.ell[i] = ell;
+    out.value[i] = deg == 0 || !(ell > 0) ? 0.0 : std::sqrt(x * x + y * y + z * z) / ell;  // eq. 7.1.5 / l_i
+  }
+}
+}  // namespace
+
+void laplacian_local_ring(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A, LocalRingCarrier& out,
+                          bool branch_free) {
+  // The same arithmetic, in the same order, as the Local branch of the adjacency overload above:
+  // L_i = sum_j (x_i - x_j) over the neighbours in list order (eqs. 7.1.2-7.1.3), d_i = ||L_i||
+  // (eq. 7.1.5), l_i = (elen_i + l) / deg_i with elen_i the lengths added by the neighbours j < i (in
+  // increasing j) and l those of the neighbours j > i (in list order).
+  if (branch_free)
+    local_ring<true>(V, A, out);
+  else
+    local_ring<false>(V, A, out);
+}
+
+void laplacian_local_change(const Eigen::Ref<const MatrixX3dR>& V, const Adjacency& A, const LocalRingCarrier& R,
+                            const Eigen::VectorXd& d_target, MatrixX3dR& dL) {
+  const Eigen::Index n = V.rows();
+  dL.setZero(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (d_target[i] == R.value[i]) continue;
+    // direction_i and gain_i exactly as the adjacency overload forms them (0 where it leaves them 0)
+    double dir[3] = {0, 0, 0}, gain = 0;
+    const double deg = static_cast<double>(A.ptr[i + 1] - A.ptr[i]), ell = R.ell[i];
+    if (!(deg == 0 || !(ell > 0))) {
+      double x = 0, y = 0, z = 0;
+      const double xi = V(i, 0), yi = V(i, 1), zi = V(i, 2);
+      for (Offset k = A.ptr[i]; k < A.ptr[i + 1]; ++k) {
+        const Index j = A.nbr[k];
+        x += xi - V(j, 0), y += yi - V(j, 1), z += zi - V(j, 2);
+      }
+      const double d = std::sqrt(x * x + y * y + z * z);  // eq. 7.1.5
+      if (d > 0) dir[0] = x / d, dir[1] = y / d, dir[2] = z / d, gain = ell;
+    }
+    const double s = gain * (d_target[i] - R.value[i]);  // eq. 7.2.19 generalised
+    dL(i, 0) = dir[0] * s, dL(i, 1) = dir[1] * s, dL(i, 2) = dir[2] * s;
+  }
 }
 
 namespace {

@@ -55,32 +55,51 @@ double score(const SortedIndex& idx, double lo, double hi, int K, const std::vec
   return s / static_cast<double>(ids.size());
 }
 
-// score() * |ids| for every factor in `ts` (all within a few 1e-3 of each other), the same sums in the
-// same order as score() adds them, so the result is bit-identical. Each bin edge moves over a short
-// stretch of the sorted lengths as t varies: that stretch is found once per edge (two lookups) and
-// the edge's position for every t is searched inside it (in cache), instead of one lookup in the
-// whole index per edge and t (the cost that grows with the carriers: bench/carrier_bench.py).
-std::vector<double> fine_scores(const SortedIndex& idx, double lo, double hi, int K, const std::vector<long long>& ids,
+// std::lower_bound(d, d + n, x), found from a nearby index p (any p in [0, n]): galloping from p
+// towards x (1, 2, 4, ... elements), then a binary search in the last step. The answer does not
+// depend on p; the cost is about 2 log2 of the distance, all in cache when the distance is small.
+inline size_t lower_bound_near(const double* d, size_t n, double x, size_t p) {
+  // the usual case: a few elements forward (the factors ascend), stepped over one by one
+  for (int s = 0; s < 8; ++s) {
+    if (p == n || !(d[p] < x)) {
+      if (p == 0 || d[p - 1] < x) return p;  // d[p - 1] < x <= d[p]: the answer
+      break;
+    }
+    ++p;
+  }
+  if (p < n && d[p] < x) {  // the answer is > p
+    size_t lo = p + 1, step = 1;
+    while (lo + step <= n && d[lo + step - 1] < x) lo += step, step *= 2;
+    const size_t hi = std::min(n, lo + step);  // d[lo - 1] < x, and d[hi - 1] >= x or hi == n
+    return static_cast<size_t>(std::lower_bound(d + lo, d + hi, x) - d);
+  }
+  // the answer is <= p: d[p] >= x (or p == n)
+  size_t hi = p, step = 1;
+  while (hi >= step && !(d[hi - step] < x)) hi -= step, step *= 2;
+  const size_t lo = hi >= step ? hi - step : 0;  // d[lo] < x (or lo == 0), d[hi] >= x (or hi == n)
+  return static_cast<size_t>(std::lower_bound(d + lo, d + hi, x) - d);
+}
+
+// score() * |ids| for every factor in `ts` (the coarse grid or the fine one), the same sums in the
+// same order as score() adds them (carrier by carrier), so the result is bit-identical. Each bin
+// edge's position is searched from its position at the previous factor (ts[1..] ascend, so the edge
+// moves little from one to the next) instead of through the whole index for every edge and factor
+// (bench/carrier_bench.py: this scan is what grows with the number of carriers).
+std::vector<double> scan_scores(const SortedIndex& idx, double lo, double hi, int K, const std::vector<long long>& ids,
                                 const std::vector<double>& ts) {
   const size_t nt = ts.size();
-  const double t_min = *std::min_element(ts.begin(), ts.end()), t_max = *std::max_element(ts.begin(), ts.end());
   std::vector<double> sums(nt, 0.0), delta(nt), lot(nt);
   for (size_t i = 0; i < nt; ++i) lot[i] = lo * ts[i], delta[i] = (hi * ts[i] - lo * ts[i]) / K;  // as score()
-  auto edge = [&](size_t i, double k) { return lot[i] + delta[i] * k; };
   std::vector<size_t> n(3 * nt);
   for (long long j : ids) {
     const double k0 = static_cast<double>(2 * j + 1);
     for (int e = 0; e < 3; ++e) {
       const double k = k0 + e;
-      // the edge's stretch over [t_min, t_max], widened against rounding
-      const double a = lo * t_min + ((hi * t_min - lo * t_min) / K) * k, b = lo * t_max + ((hi * t_max - lo * t_max) / K) * k;
-      const double w_lo = std::min(a, b), w_hi = std::max(a, b), pad = 1e-9 * (std::abs(w_lo) + std::abs(w_hi)) + 1e-300;
-      const double x_lo = w_lo - pad, x_hi = w_hi + pad;
-      const size_t s = idx.lower_bound(x_lo), f = idx.lower_bound(x_hi);
+      size_t p = 0;
       for (size_t i = 0; i < nt; ++i) {
-        const double x = edge(i, k);
-        n[3 * i + e] = (x >= x_lo && x <= x_hi) ? static_cast<size_t>(std::lower_bound(idx.d + s, idx.d + f, x) - idx.d)
-                                                : idx.lower_bound(x);
+        const double x = lot[i] + delta[i] * k;  // eq. 7.1.7's bin edge for the range (t lo, t hi)
+        p = i < 2 ? idx.lower_bound(x) : lower_bound_near(idx.d, idx.n, x, p);
+        n[3 * i + e] = p;
       }
     }
     for (size_t i = 0; i < nt; ++i) {
@@ -123,18 +142,22 @@ double laplacian_range_factor(const Eigen::Ref<const Eigen::VectorXd>& d, double
   for (size_t i = 0; i < n_coarse; ++i) coarse_ids.push_back(sorted_ids[i * sorted_ids.size() / n_coarse]);
   const double base = at(1.0, ids);
   // coarse: t = 1, then 201 values over [1 - span, 1 + span] (numpy.linspace); the first best wins
-  double best_t = 1.0, best = at(1.0, coarse_ids);
+  std::vector<double> tc(202);
+  tc[0] = 1.0;
+  for (int i = 0; i <= 200; ++i) tc[i + 1] = (1 - span) + (2 * span) * i / 200.0;
+  const std::vector<double> coarse = scan_scores(idx, lo, hi, K, coarse_ids, tc);
+  const double n_c = static_cast<double>(coarse_ids.size());  // at(t, coarse_ids) = coarse[.] / n_c
+  double best_t = 1.0, best = coarse[0] / n_c;
   for (int i = 0; i <= 200; ++i) {
-    const double t = (1 - span) + (2 * span) * i / 200.0;
-    const double s = at(t, coarse_ids);
-    if (s > best) best = s, best_t = t;
+    const double s = coarse[i + 1] / n_c;
+    if (s > best) best = s, best_t = tc[i + 1];
   }
   // fine, with every carrier: the best, then 51 values within +-1e-3 of it
   const double t0 = best_t;
   std::vector<double> ts(52);
   ts[0] = t0;
   for (int i = 0; i <= 50; ++i) ts[i + 1] = (t0 - 1e-3) + 2e-3 * i / 50.0;
-  const std::vector<double> sums = fine_scores(idx, lo, hi, K, ids, ts);
+  const std::vector<double> sums = scan_scores(idx, lo, hi, K, ids, ts);
   double fine_best = sums[0] / static_cast<double>(ids.size());
   for (int i = 0; i <= 50; ++i) {
     const double s = sums[i + 1] / static_cast<double>(ids.size());

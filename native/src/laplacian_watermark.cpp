@@ -328,9 +328,16 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
   MatrixX3dR L;
   Eigen::VectorXd d;
   LaplacianCarrierField field;
+  // The default carrier takes the fast path of laplacian_carrier.h (the scalar alone, the change for the
+  // moved vertices only); the same values and changes, bit for bit, as the general one.
+  const bool local_ring = opt.carrier == LaplacianCarrier::Local && opt.compress == 0;
+  LocalRingCarrier ring;
   if (thesis_carrier) {
     L = laplacian_coordinates(V, A, eps_measure);  // eq. 7.1.2
     d = L.rowwise().norm() / opt.scale;             // eq. 7.1.5
+  } else if (local_ring) {
+    laplacian_local_ring(V, A, ring);
+    d = ring.value;
   } else {
     field = laplacian_carrier(V, A, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
     d = field.value;
@@ -339,7 +346,11 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
   LaplacianEmbedResult R;
   R.d_target = d;
   R.n_moved = select_targets(d, hist, pairs, bits, opt, opt.thesis_exact, R.d_target).n_moved;
-  MatrixX3dR dL = thesis_carrier ? length_change(L, d, R.d_target) : carrier_change(field, d, R.d_target);
+  MatrixX3dR dL;
+  if (local_ring)
+    laplacian_local_change(V, A, ring, R.d_target, dL);
+  else
+    dL = thesis_carrier ? length_change(L, d, R.d_target) : carrier_change(field, d, R.d_target);
 
   if (opt.thesis_exact) {
     // §7.2.2: X^ = M^-1 L^ with M = K - eps I (eq. 7.1.4), L^ = L + dL.
@@ -368,15 +379,24 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
       // The thesis carrier is reached by the one solve (L = K X is linear). The other carriers depend
       // on the 1-ring's edge lengths and normals too: re-read and top up, as the iterative rounds do.
       if (thesis_carrier || round + 1 >= opt.max_rounds) break;
-      field = laplacian_carrier(R.V, A, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
-      const LaplacianHistogram h = laplacian_histogram(field.value, hist.K, hist.lo, hist.hi, used);
-      Eigen::VectorXd dt = field.value;
-      const Selection S = select_targets(field.value, h, pairs, bits, opt, false, dt);
+      if (local_ring) {
+        laplacian_local_ring(R.V, A, ring);
+        d = ring.value;
+      } else {
+        field = laplacian_carrier(R.V, A, *opt.triangles, opt.carrier, opt.scale, true, opt.compress);
+        d = field.value;
+      }
+      const LaplacianHistogram h = laplacian_histogram(d, hist.K, hist.lo, hist.hi, used);
+      Eigen::VectorXd dt = d;
+      const Selection S = select_targets(d, h, pairs, bits, opt, false, dt);
       if (S.short_pairs == 0) break;
       R.n_moved += S.n_moved;
       for (Index i = 0; i < n; ++i)
-        if (dt[i] != field.value[i]) R.d_target[i] = dt[i];
-      dL = carrier_change(field, field.value, dt);
+        if (dt[i] != d[i]) R.d_target[i] = dt[i];
+      if (local_ring)
+        laplacian_local_change(R.V, A, ring, dt, dL);
+      else
+        dL = carrier_change(field, d, dt);
     }
     return R;
   }
@@ -404,6 +424,9 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
       for (int c = 0; c < 3; ++c) Tp(t, c) = inv[(*opt.triangles)(t, c)];
   }
   MatrixX3dR dX(n, 3);
+  // the rounds' scalar in the breadth-first numbering: branch-free while the mesh fits in the cache
+  // (laplacian_carrier.h; the same values either way)
+  const bool ring_branch_free = n <= (Index(1) << 18);
   for (int round = 0;; ++round) {
     remove_component_mean(comp_p, n_comp, dLp);
     R.iterations += pcg(Ap, eps_solve, dLp, opt.iterations, dX);
@@ -414,6 +437,9 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     if (thesis_carrier) {
       L = laplacian_coordinates(X, Ap, 0.0);
       d = L.rowwise().norm() / opt.scale;
+    } else if (local_ring) {
+      laplacian_local_ring(X, Ap, ring, ring_branch_free);
+      d = ring.value;
     } else {
       field = laplacian_carrier(X, Ap, Tp, opt.carrier, opt.scale, true, opt.compress);
       d = field.value;
@@ -425,7 +451,10 @@ LaplacianEmbedResult laplacian_embed(const Eigen::Ref<const MatrixX3dR>& V, cons
     R.n_moved += S.n_moved;
     for (Index k = 0; k < n; ++k)
       if (dt[k] != d[k]) R.d_target[order[k]] = dt[k];
-    dLp = thesis_carrier ? length_change(L, d, dt) : carrier_change(field, d, dt);
+    if (local_ring)
+      laplacian_local_change(X, Ap, ring, dt, dLp);
+    else
+      dLp = thesis_carrier ? length_change(L, d, dt) : carrier_change(field, d, dt);
   }
   R.V.resize(n, 3);
   for (Index k = 0; k < n; ++k) R.V.row(order[k]) = X.row(k);
