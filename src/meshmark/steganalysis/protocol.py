@@ -297,7 +297,7 @@ def _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, method
         for m in methods:
             sel = (meth == "cover") | (meth == m)
             a, b = sel & trr, sel & ter
-            model = clf.make(classifier, **params).fit(X[a], meth[a] != "cover")
+            model = clf.fit(clf.make(classifier, **params), X[a], meth[a] != "cover", ds["cover"][a])
             pred = model.predict_proba(X[b]) > 0.5
             rows.append({"split": k, "detector": f"specific:{m}", **_rates(meth[b] != "cover", pred),
                          "n_train": int(a.sum()), "n_test": int(b.sum())})
@@ -307,7 +307,7 @@ def _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, method
             pred, n_train = p_max > 0.5, int(trr.sum())
         else:
             a = np.flatnonzero(trr) if universal == "all" else a_u
-            model = clf.make(classifier, **params).fit(X[a], meth[a] != "cover")
+            model = clf.fit(clf.make(classifier, **params), X[a], meth[a] != "cover", ds["cover"][a])
             pred, n_train = model.predict_proba(X[b_u]) > 0.5, int(len(a))
         rows.append({"split": k, "detector": "universal", **_rates(meth[b_u] != "cover", pred),
                      "n_train": n_train, "n_test": int(len(b_u))})
