@@ -134,3 +134,21 @@ def test_protocol_passes_cover_groups():
         del clf.CLASSIFIERS["spy"]
     assert all(g is not None and len(g) == 2 * len(set(g)) for g in seen)  # each cover with its stego row
     assert {r["detector"] for r in rows} == {"specific:m", "universal"}
+
+
+def test_stacked_universal_learns_which_specific_detector_to_trust():
+    """Two methods that shift different features: each specific detector sees only its own; the stacked
+    universal detector (out-of-fold specific probabilities -> logistic regression) detects both, and its
+    balanced error is far below a coin's."""
+    rng = np.random.default_rng(3)
+    n = 80
+    base = rng.normal(size=(n, 4))
+    X = np.vstack([base, base + [3.5, 0, 0, 0], base + [0, 0, 3.5, 0]])  # Bayes P_E of each: Phi(-1.75) = 0.04
+    ds = {"cover": np.tile(np.arange(n), 3), "method": np.array(["cover"] * n + ["a"] * n + ["b"] * n, dtype=object),
+          "path": [f"c{i}" for i in range(n)], "X": {"yang208": X}, "failed": []}
+    rows = P.evaluate(ds, "yang208", "logreg", n_splits=3, universal="stack", C=1.0)
+    u = [r for r in rows if r["detector"] == "universal"]
+    assert len(u) == 3 and np.median([r["pe"] for r in u]) < 0.12
+    assert all(r["n_train"] == 3 * (n - round(0.3 * n)) for r in u)  # every stego version of the training covers
+    spec = [r for r in rows if r["detector"] == "specific:a"]
+    assert np.median([r["accuracy"] for r in spec]) > 0.85
