@@ -129,10 +129,15 @@ class QDA:
         return q
 
 
-def _fld(X0, X1, ridge):
-    """Fisher linear discriminant w = (S0 + S1 + ridge I)^-1 (m1 - m0) on the rows of X0 / X1."""
+def _fld(X0, X1, ridge, scatter="pooled"):
+    """Fisher linear discriminant w = (S0 + S1 + ridge I)^-1 (m1 - m0) on the rows of X0 / X1.
+
+    ``scatter="pooled"``: S_k the class scatter matrices (sum over the rows: the larger class weighs more);
+    ``"balanced"``: S_k / n_k, the class covariances, so that a 10:1 class ratio does not let the stego
+    class's covariance decide the direction alone."""
     m0, m1 = X0.mean(0), X1.mean(0)
-    S = np.cov(X0, rowvar=False, bias=True) * len(X0) + np.cov(X1, rowvar=False, bias=True) * len(X1)
+    n0, n1 = (len(X0), len(X1)) if scatter == "pooled" else (1, 1)
+    S = np.cov(X0, rowvar=False, bias=True) * n0 + np.cov(X1, rowvar=False, bias=True) * n1
     S = np.atleast_2d(S)
     lam = ridge * max(np.trace(S) / S.shape[0], 1e-300)
     w = np.linalg.solve(S + lam * np.eye(S.shape[0]), m1 - m0)
@@ -163,7 +168,10 @@ class FLDEnsemble:
     kind = "ensemble"
 
     def __init__(self, n_learners: int = 51, d_sub: int | None = None, ridge: float = 1e-6, seed: int = 0,
-                 search_learners: int = 15):
+                 search_learners: int = 15, scatter: str = "pooled"):
+        if scatter not in ("pooled", "balanced"):
+            raise MeshError(f"FLD ensemble: scatter must be 'pooled' or 'balanced', got {scatter!r}")
+        self.scatter = scatter
         self.n_learners = int(n_learners)
         self.search_learners = int(search_learners)
         self.d_sub = d_sub
@@ -182,7 +190,7 @@ class FLDEnsemble:
             S = np.sort(rng.choice(d, d_sub, replace=False))
             b0 = rng.choice(i0, len(i0), replace=True)  # bootstrap within each class
             b1 = rng.choice(i1, len(i1), replace=True)
-            w = _fld(Z[b0][:, S], Z[b1][:, S], self.ridge)
+            w = _fld(Z[b0][:, S], Z[b1][:, S], self.ridge, self.scatter)
             t, _ = _best_threshold(Z[b0][:, S] @ w, Z[b1][:, S] @ w)
             subsets[l], W[l], b[l] = S, w, t
             oob = np.ones(n, bool)
@@ -227,8 +235,11 @@ class FLDEnsemble:
         return self.votes(X).mean(axis=1)
 
     def params(self):
-        return {"n_learners": self.n_learners, "d_sub": self.d_sub, "ridge": self.ridge, "seed": self.seed,
-                "search_learners": self.search_learners}
+        p = {"n_learners": self.n_learners, "d_sub": self.d_sub, "ridge": self.ridge, "seed": self.seed,
+             "search_learners": self.search_learners}
+        if self.scatter != "pooled":  # only when set: default models' metadata stays exactly as before
+            p["scatter"] = self.scatter
+        return p
 
     def arrays(self):
         return {**self.scaler.arrays("scaler_"), "subsets": self.subsets, "W": self.W, "b": self.b,
@@ -243,7 +254,164 @@ class FLDEnsemble:
         return e
 
 
-CLASSIFIERS = {"qda": QDA, "ensemble": FLDEnsemble}
+def _cv_folds(y, groups, n_folds, seed):
+    """Training-side folds for a hyper-parameter or threshold choice: cover-grouped when ``groups`` (the cover
+    index of each row) is given, so that a cover and its stego versions never straddle a fold."""
+    from sklearn.model_selection import StratifiedGroupKFold, StratifiedKFold
+    n_min = int(np.bincount(y).min())
+    if groups is not None:
+        k = int(max(2, min(n_folds, len(np.unique(groups[y == 0])), len(np.unique(groups[y == 1])))))
+        return list(StratifiedGroupKFold(k, shuffle=True, random_state=seed).split(np.zeros(len(y)), y, groups))
+    k = int(max(2, min(n_folds, n_min)))
+    return list(StratifiedKFold(k, shuffle=True, random_state=seed).split(np.zeros(len(y)), y))
+
+
+def _to_half(p, t):
+    """The monotone piecewise-linear map of [0, 1] onto itself that sends the threshold t to 1/2, so that
+    ``predict_proba > 0.5`` is the thresholded decision."""
+    p = np.asarray(p, float)
+    return np.where(p <= t, 0.5 * p / t, 0.5 + 0.5 * (p - t) / (1 - t))
+
+
+class Forest:
+    """Random forest / extra trees (scikit-learn), class-balanced, for the protocol (not saved in model files).
+
+    ``threshold``: "0.5"; "cv" — the probability cut minimising the training-side P_E = (P_FA + P_MD)/2
+    (Kodovský's rule) on out-of-fold probabilities (``folds`` cover-grouped folds when the protocol passes
+    the cover groups); "auto" (default) — "cv" when one class has more than 1.5 times the rows of the other
+    (the universal detector trained on every stego version: 10:1), else "0.5"."""
+    kind = "forest"
+    uses_groups = True
+
+    def __init__(self, n_trees: int = 300, trees: str = "random", min_samples_leaf: int = 2,
+                 max_features: str | float = "sqrt", threshold: str = "auto", folds: int = 3, seed: int = 0):
+        if trees not in ("random", "extra"):
+            raise MeshError(f"forest: trees must be 'random' or 'extra', got {trees!r}")
+        if threshold not in ("auto", "cv", "0.5"):
+            raise MeshError(f"forest: threshold must be 'auto', 'cv' or '0.5', got {threshold!r}")
+        self.n_trees, self.trees, self.min_samples_leaf = int(n_trees), trees, int(min_samples_leaf)
+        self.max_features, self.threshold, self.folds, self.seed = max_features, threshold, int(folds), int(seed)
+
+    def _model(self):
+        from sklearn.ensemble import ExtraTreesClassifier, RandomForestClassifier
+        cls = RandomForestClassifier if self.trees == "random" else ExtraTreesClassifier
+        return cls(n_estimators=self.n_trees, class_weight="balanced", min_samples_leaf=self.min_samples_leaf,
+                   max_features=self.max_features, bootstrap=True, random_state=self.seed, n_jobs=1)
+
+    def fit(self, X, y, groups=None):
+        X, y = _check_xy(X, y)
+        groups = None if groups is None else np.asarray(groups)
+        c = np.bincount(y)
+        mode = ("cv" if c.max() > 1.5 * c.min() else "0.5") if self.threshold == "auto" else self.threshold
+        self.t = 0.5
+        if mode == "cv":
+            oof = np.empty(len(y))
+            for tr, te in _cv_folds(y, groups, self.folds, self.seed):
+                oof[te] = self._model().fit(X[tr], y[tr]).predict_proba(X[te])[:, 1]
+            t, _ = _best_threshold(oof[y == 0], oof[y == 1])
+            self.t = float(np.clip(t, 1e-3, 1 - 1e-3))
+        self.model = self._model().fit(X, y)
+        return self
+
+    def predict_proba(self, X):
+        return _to_half(self.model.predict_proba(np.atleast_2d(np.asarray(X, float)))[:, 1], self.t)
+
+    def params(self):
+        return {"n_trees": self.n_trees, "trees": self.trees, "min_samples_leaf": self.min_samples_leaf,
+                "max_features": self.max_features, "threshold": self.threshold, "folds": self.folds, "seed": self.seed}
+
+    def arrays(self):
+        raise MeshError("the forest classifier is for the protocol only: a model file holds plain arrays "
+                        "(format 2: ensemble, qda, logreg); train the model with one of those")
+
+
+class LogReg:
+    """L2 logistic regression on standardised features (training mean and deviation), class-balanced
+    weights, C chosen from ``Cs`` by the balanced accuracy of ``folds``-fold cross-validation on the
+    training side (cover-grouped when the protocol passes the groups) unless ``C`` is given. Decision at
+    P = 1/2. ``transform="quantile"`` first maps each feature through its training quantiles to a normal
+    (scikit-learn ``QuantileTransformer``; protocol only, not saved in model files)."""
+    kind = "logreg"
+    uses_groups = True
+
+    def __init__(self, C: float | None = None, Cs=(1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0),
+                 folds: int = 3, transform: str = "standard", seed: int = 0):
+        if transform not in ("standard", "quantile"):
+            raise MeshError(f"logreg: transform must be 'standard' or 'quantile', got {transform!r}")
+        self.C, self.Cs, self.folds, self.transform, self.seed = C, tuple(float(c) for c in Cs), int(folds), transform, int(seed)
+
+    def _prep(self, X, fit=False):
+        X = np.asarray(X, float)
+        if self.transform == "quantile":
+            if fit:
+                from sklearn.preprocessing import QuantileTransformer
+                self.qt = QuantileTransformer(n_quantiles=min(100, len(X)), output_distribution="normal",
+                                              random_state=self.seed).fit(X)
+            X = self.qt.transform(X)
+        if fit:
+            self.mean = X.mean(0)
+            sd = X.std(0)
+            self.scale = np.where(sd > 0, sd, 1.0)
+        return (X - self.mean) / self.scale
+
+    @staticmethod
+    def _lr(C):
+        from sklearn.linear_model import LogisticRegression
+        return LogisticRegression(C=C, class_weight="balanced", max_iter=5000)
+
+    def fit(self, X, y, groups=None):
+        X, y = _check_xy(X, y)
+        C = self.C
+        if C is None:
+            groups = None if groups is None else np.asarray(groups)
+            folds = _cv_folds(y, groups, self.folds, self.seed)
+            score = []
+            for c in self.Cs:
+                acc = []
+                for tr, te in folds:
+                    Z = self._prep(X[tr], fit=True)
+                    pred = self._lr(c).fit(Z, y[tr]).predict(self._prep(X[te]))
+                    acc.append(0.5 * ((pred[y[te] == 0] == 0).mean() + (pred[y[te] == 1] == 1).mean()))
+                score.append(np.mean(acc))
+            C = self.Cs[int(np.argmax(score))]
+        self.C_used = float(C)
+        lr = self._lr(C).fit(self._prep(X, fit=True), y)
+        self.coef, self.intercept = lr.coef_[0].copy(), float(lr.intercept_[0])
+        return self
+
+    def decision(self, X):
+        return self._prep(np.atleast_2d(X)) @ self.coef + self.intercept
+
+    def predict_proba(self, X):
+        return 1.0 / (1.0 + np.exp(-np.clip(self.decision(X), -700, 700)))
+
+    def params(self):
+        return {"C": self.C, "Cs": list(self.Cs), "folds": self.folds, "transform": self.transform, "seed": self.seed}
+
+    def arrays(self):
+        if self.transform != "standard":
+            raise MeshError("logreg with transform='quantile' is for the protocol only; a model file holds "
+                            "plain arrays: use transform='standard'")
+        return {"mean": self.mean, "scale": self.scale, "coef": self.coef, "intercept": np.array(self.intercept),
+                "C_used": np.array(self.C_used)}
+
+    @classmethod
+    def from_arrays(cls, params, a):
+        m = cls(**params)
+        m.mean, m.scale, m.coef = a["mean"], a["scale"], a["coef"]
+        m.intercept, m.C_used = float(a["intercept"]), float(a["C_used"])
+        return m
+
+
+CLASSIFIERS = {"qda": QDA, "ensemble": FLDEnsemble, "forest": Forest, "logreg": LogReg}
+
+
+def fit(model, X, y, groups=None):
+    """``model.fit(X, y)``, passing the cover index of each row to classifiers that choose something by
+    cross-validation on the training side (``uses_groups``)."""
+    if groups is not None and getattr(model, "uses_groups", False):
+        return model.fit(X, y, groups=groups)
+    return model.fit(X, y)
 
 
 def make(kind: str, **params):

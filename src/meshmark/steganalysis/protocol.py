@@ -254,9 +254,13 @@ def one_thread():
 #: How the universal detector is trained (its test side is always §8.2.2's: every test cover plus one stego
 #: version of a randomly chosen method). "pick": the thesis, one random stego version per training cover;
 #: "all": every stego version of every training cover (the FLD ensemble's threshold minimises the balanced
-#: P_E, so the 10:1 class ratio does not shift it); "max-specific": no universal model, the largest
+#: P_E, so the 10:1 class ratio does not shift it); "stack": a class-balanced logistic regression (C by
+#: cover-grouped CV) on the specific detectors' probabilities, learned on every training row with
+#: out-of-fold probabilities (the specific detectors retrained on 2/3 of the training covers, 3 folds),
+#: applied at test to the probabilities of the specific detectors trained on all training covers;
+#: "max-specific": no universal model, the largest
 #: probability of the specific detectors (each trained on the same training covers).
-UNIVERSAL = ("pick", "all", "max-specific")
+UNIVERSAL = ("pick", "all", "max-specific", "stack")
 
 
 def evaluate(ds, feature_set: str, classifier: str = "ensemble", n_splits: int = 30, test_fraction: float = 0.3,
@@ -287,31 +291,62 @@ def _evaluate(ds, feature_set, classifier, n_splits, test_fraction, seed, method
         raise MeshError(f"the split protocol needs at least 4 covers, got {n_cov}")
     if not 0 < test_fraction < 1 or n_splits < 1:
         raise MeshError(f"need 0 < test_fraction < 1 and n_splits >= 1, got {test_fraction} and {n_splits}")
-    methods = sorted({m for m in meth if m != "cover"}) if methods is None else methods
+    methods = sorted({m for m in meth if m != "cover"}) if methods is None else list(methods)
     rows = []
     for k, (tr, te) in enumerate(splits(n_cov, n_splits, test_fraction, seed)):
         trr, ter = tr[ds["cover"]], te[ds["cover"]]
         rng = np.random.default_rng([seed, k])
         a_u, b_u = _pick_universal(ds, tr, rng), _pick_universal(ds, te, rng)
         p_max = np.zeros(len(b_u))
+        P_u = np.zeros((len(b_u), len(methods)))
         for m in methods:
             sel = (meth == "cover") | (meth == m)
             a, b = sel & trr, sel & ter
-            model = clf.make(classifier, **params).fit(X[a], meth[a] != "cover")
+            model = clf.fit(clf.make(classifier, **params), X[a], meth[a] != "cover", ds["cover"][a])
             pred = model.predict_proba(X[b]) > 0.5
             rows.append({"split": k, "detector": f"specific:{m}", **_rates(meth[b] != "cover", pred),
                          "n_train": int(a.sum()), "n_test": int(b.sum())})
             if universal == "max-specific":
                 p_max = np.maximum(p_max, model.predict_proba(X[b_u]))
+            if universal == "stack":
+                P_u[:, methods.index(m)] = model.predict_proba(X[b_u])
         if universal == "max-specific":
             pred, n_train = p_max > 0.5, int(trr.sum())
+        elif universal == "stack":
+            a = np.flatnonzero(trr)
+            S = _stack_scores(ds, X, a, tr, methods, classifier, params, np.random.default_rng([seed, k, 7]))
+            comb = clf.fit(clf.LogReg(), S, meth[a] != "cover", ds["cover"][a])
+            pred, n_train = comb.predict_proba(P_u) > 0.5, int(len(a))
         else:
             a = np.flatnonzero(trr) if universal == "all" else a_u
-            model = clf.make(classifier, **params).fit(X[a], meth[a] != "cover")
+            model = clf.fit(clf.make(classifier, **params), X[a], meth[a] != "cover", ds["cover"][a])
             pred, n_train = model.predict_proba(X[b_u]) > 0.5, int(len(a))
         rows.append({"split": k, "detector": "universal", **_rates(meth[b_u] != "cover", pred),
                      "n_train": n_train, "n_test": int(len(b_u))})
     return rows
+
+
+def _stack_scores(ds, X, rows, tr, methods, classifier, params, rng, n_folds=3):
+    """Out-of-fold probabilities of every specific detector for the training ``rows``: the training covers
+    (mask ``tr``) fall in ``n_folds`` folds; each fold's rows are scored by specific detectors trained on the
+    other folds' covers only (a cover and its stego versions stay together)."""
+    meth, cov = ds["method"], ds["cover"]
+    tr_cov = np.flatnonzero(tr)
+    fold = np.empty(len(tr), int)
+    fold[tr_cov] = rng.permutation(len(tr_cov)) % n_folds
+    S = np.full((len(rows), len(methods)), 0.5)
+    fr = fold[cov[rows]]
+    for f in range(n_folds):
+        inner = tr & (fold != f)
+        held = rows[fr == f]
+        for j, m in enumerate(methods):
+            a = inner[cov] & ((meth == "cover") | (meth == m))
+            y = meth[a] != "cover"
+            if y.all() or not y.any():
+                continue  # too few covers carry this method here: leave 1/2
+            model = clf.fit(clf.make(classifier, **params), X[a], y, cov[a])
+            S[fr == f, j] = model.predict_proba(X[held])
+    return S
 
 
 def median_table(rows) -> list[dict]:
