@@ -74,8 +74,8 @@ def test_codebook_is_keyed_balanced_and_repeats_cyclically():
 
 
 def test_schemes_by_payload_length():
-    assert coding.scheme_for(1) == coding.scheme_for(20) == coding.KEYED
-    assert coding.scheme_for(21) == coding.scheme_for(32) == coding.TBCC9
+    assert coding.scheme_for(1) == coding.scheme_for(24) == coding.KEYED
+    assert coding.scheme_for(25) == coding.scheme_for(32) == coding.TBCC9
     assert coding.coding_field(8, 60) == {"scheme": coding.KEYED, "info_bits": 8, "check_bits": 0, "n_coded": 60}
 
 
@@ -105,3 +105,39 @@ def test_half_binomial_is_exact_to_rounding():
     for m in (1, 7, 108, 256):
         exact = np.array([math.comb(m, j) for j in range(m + 1)], float) / 2.0 ** m
         assert np.allclose(kc._half_binomial(m), exact, rtol=1e-11, atol=0)
+
+
+def test_streamed_blocks_are_the_codebook_and_search_the_same(monkeypatch):
+    """Beyond CACHED_DATA_BITS the codebook is streamed: a block seeked to any word equals that slice
+    of the whole keystream (so encoding and decoding agree on every word), and the streamed search
+    decides exactly as the whole-codebook search on noisy frames (both paths forced on k = 12)."""
+    whole = kc._keystream("k", "laplacian", "bits", 12, 101, 0, 1 << 12)
+    for first, count in ((0, 1), (1, 3), (7, 100), (4095, 1), (1000, 3096)):
+        assert np.array_equal(kc._keystream("k", "laplacian", "bits", 12, 101, first, count), whole[first:first + count])
+    assert np.array_equal(whole, kc.codebook("k", "laplacian", "bits", 12, 101))
+    rng = np.random.default_rng(6)
+    frames = []
+    for i in range(60):  # half lightly, half heavily flipped: both outcomes occur
+        data = rng.integers(0, 2, 12).astype(np.uint8)
+        p = 0.08 if i < 30 else 0.3
+        y = (2.0 * kc.encode(data, "bits", "k", "laplacian", 101) - 1) * np.where(rng.random(101) < p, -1, 1)
+        frames.append((data, y * rng.uniform(0.2, 1.0, 101)))
+    ref = [kc.decode(y, 12, "bits", "k", "laplacian") for _, y in frames]
+    monkeypatch.setattr(kc, "CACHED_DATA_BITS", 8)
+    monkeypatch.setattr(kc, "CHUNK_WORDS", 300)  # 14 blocks, the last one short
+    got = [kc.decode(y, 12, "bits", "k", "laplacian") for _, y in frames]
+    assert all((a[0] is None and b[0] is None) or np.array_equal(a[0], b[0]) for a, b in zip(ref, got))
+    right = sum(a[0] is not None and np.array_equal(a[0], d) for a, (d, _) in zip(ref, frames))
+    assert 30 <= right < 60, right
+    with pytest.raises(ValueError, match="not built whole"):
+        kc.codebook("k", "laplacian", "bits", 12, 101)
+
+
+def test_24_bit_payload_round_trip_and_wrong_key():
+    data = np.unpackbits(np.frombuffer(b"Hi!", np.uint8))
+    c = coding.encode(data, "text", "k", "laplacian", 140)
+    rng = np.random.default_rng(8)
+    y = (2.0 * c - 1) * np.where(rng.random(140) < 0.12, -1, 1)
+    got, reason = coding.decode(y, 24, "text", "k", "laplacian")
+    assert reason == "" and np.array_equal(got, data)
+    assert coding.decode(2.0 * c - 1, 24, "text", "other", "laplacian")[0] is None

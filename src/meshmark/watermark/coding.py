@@ -1,6 +1,6 @@
 """Channel coding of the payload: three schemes, chosen by the payload length and stored in the keyfile.
 
-* :data:`KEYED` (payloads of 1-20 bits): the keyed random code of :mod:`.keyed_code`, maximum-likelihood
+* :data:`KEYED` (payloads of 1-24 bits): the keyed random code of :mod:`.keyed_code`, maximum-likelihood
   decoded over all 2^k words with an exact 1e-6 acceptance threshold; no check bits.
 * :data:`TBCC9` (longer payloads): data + 20-bit keyed check, tail-biting convolutional code of rate 1/4
   and constraint length 9 (below).
@@ -67,7 +67,7 @@ def wrap_depth(constraint: int) -> int:
 
 
 def scheme_for(n_data: int) -> str:
-    """The scheme new keyfiles use for ``n_data`` payload bits: the keyed code up to 20 bits, then the
+    """The scheme new keyfiles use for ``n_data`` payload bits: the keyed code up to 24 bits, then the
     K = 9 rate-1/4 convolutional code (each decodes more frames than LTE's K = 7 code at the carrier
     counts measured, docs/coding.md)."""
     return KEYED if 1 <= int(n_data) <= keyed_code.MAX_DATA_BITS else TBCC9

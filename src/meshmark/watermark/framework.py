@@ -16,7 +16,7 @@ and this module does the rest, identically for every method:
    apart: without welding the edge graph of such a mesh is a set of loose pieces. The choice is
    stored in the keyfile and extraction welds the same way;
 1. choose the parameters (``params="auto"``, the default: :mod:`.auto`; ``"thesis"``: the published
-   defaults) and code the payload (:mod:`.coding`: up to 20 bits a keyed random code decoded by
+   defaults) and code the payload (:mod:`.coding`: up to 24 bits a keyed random code decoded by
    maximum likelihood, beyond a 20-bit keyed check and a tail-biting convolutional code, rate-matched
    to all carriers; older keyfiles name the K = 7 convolutional code or the repetition code of
    :mod:`.payload`, still read);

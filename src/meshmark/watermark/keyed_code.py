@@ -1,4 +1,4 @@
-"""A keyed random code for short payloads (1-20 data bits), decoded by maximum likelihood over every word.
+"""A keyed random code for short payloads (1-24 data bits), decoded by maximum likelihood over every word.
 
 Each of the 2^k data words w gets its own pseudo-random codeword of n = min(C, 256) bits::
 
@@ -29,7 +29,8 @@ disagreements (99.8 % of frames at 10 % flips).
 Against the tail-biting convolutional code with a 20-bit keyed check (:mod:`.coding`) it spends no
 bits on a check, so at the same carriers it decodes more frames; docs/coding.md has the measured curve.
 Decoding costs about 1 ms at k = 16 and 30 ms at k = 20 (the codebook, 2^k * nb bytes, at most
-32 MB, is cached: at most 64 MB of codebooks, least recently used dropped first).
+32 MB, is cached: at most 64 MB of codebooks, least recently used dropped first); from 21 to 24 bits the
+codebook is streamed in blocks of 2^20 words and never held whole (about 0.3 s at 24 bits).
 """
 from __future__ import annotations
 
@@ -41,7 +42,9 @@ import numpy as np
 
 from .. import _core
 
-MAX_DATA_BITS = 20
+MAX_DATA_BITS = 24
+CACHED_DATA_BITS = 20  # codebooks up to 2^20 words are built whole and cached; longer ones are streamed
+CHUNK_WORDS = 1 << 20  # words per streamed block
 MAX_CODE_BITS = 256
 LEVELS = 8
 ALPHA = 1e-6
@@ -52,6 +55,27 @@ def code_bits(n_carriers: int) -> int:
     return int(min(int(n_carriers), MAX_CODE_BITS))
 
 
+def _check(k: int, n: int) -> None:
+    if not 1 <= int(k) <= MAX_DATA_BITS or not 1 <= int(n) <= MAX_CODE_BITS:
+        raise ValueError(f"keyed code takes 1..{MAX_DATA_BITS} data bits and 1..{MAX_CODE_BITS} code bits")
+
+
+def _keystream(key: str, method: str, kind: str, k: int, n: int, first: int, count: int) -> np.ndarray:
+    """(count, nb) uint8: the packed codewords of words first .. first + count - 1. The codebook is one
+    AES-256-CTR keystream (counter block 0 first); a block of it starts at counter (first nb) // 16."""
+    from cryptography.hazmat.primitives.ciphers import Cipher, algorithms, modes
+    nb = (n + 7) // 8
+    kk = hmac.new(key.encode("utf-8"), f"meshmark/v2/{method}/code/{kind}/{k}/{n}".encode(), hashlib.sha256).digest()
+    start = first * nb
+    skip = start % 16
+    enc = Cipher(algorithms.AES(kk), modes.CTR((start // 16).to_bytes(16, "big"))).encryptor()
+    raw = enc.update(bytes(skip + count * nb)) + enc.finalize()
+    book = np.frombuffer(raw, np.uint8)[skip:].reshape(count, nb).copy()
+    if n % 8:
+        book[:, -1] &= np.uint8((0xFF << (8 - n % 8)) & 0xFF)  # bits beyond n are zero (never compared)
+    return book
+
+
 _CACHE: "OrderedDict[tuple, np.ndarray]" = OrderedDict()
 CACHE_BYTES = 64 << 20  # codebooks kept in memory (least recently used dropped first)
 
@@ -60,7 +84,8 @@ def _codebook(key: str, method: str, kind: str, k: int, n: int) -> np.ndarray:
     ident = (key, method, kind, k, n)
     book = _CACHE.get(ident)
     if book is None:
-        book = _make_codebook(*ident)
+        book = _keystream(key, method, kind, k, n, 0, 1 << k)
+        book.setflags(write=False)
         _CACHE[ident] = book
         while len(_CACHE) > 1 and sum(b.nbytes for b in _CACHE.values()) > CACHE_BYTES:
             _CACHE.popitem(last=False)
@@ -68,23 +93,12 @@ def _codebook(key: str, method: str, kind: str, k: int, n: int) -> np.ndarray:
     return book
 
 
-def _make_codebook(key: str, method: str, kind: str, k: int, n: int) -> np.ndarray:
-    from cryptography.hazmat.primitives.ciphers import Cipher, algorithms, modes
-    nb = (n + 7) // 8
-    kk = hmac.new(key.encode("utf-8"), f"meshmark/v2/{method}/code/{kind}/{k}/{n}".encode(), hashlib.sha256).digest()
-    enc = Cipher(algorithms.AES(kk), modes.CTR(b"\0" * 16)).encryptor()
-    book = np.frombuffer(enc.update(bytes((1 << k) * nb)) + enc.finalize(), np.uint8).reshape(1 << k, nb).copy()
-    if n % 8:
-        book[:, -1] &= np.uint8((0xFF << (8 - n % 8)) & 0xFF)  # bits beyond n are zero (never compared)
-    book.setflags(write=False)
-    return book
-
-
 def codebook(key: str, method: str, kind: str, k: int, n: int) -> np.ndarray:
     """(2^k, ceil(n/8)) uint8: every data word's packed codeword (MSB first), word index = the data bits
-    read as a big-endian integer."""
-    if not 1 <= int(k) <= MAX_DATA_BITS or not 1 <= int(n) <= MAX_CODE_BITS:
-        raise ValueError(f"keyed code takes 1..{MAX_DATA_BITS} data bits and 1..{MAX_CODE_BITS} code bits")
+    read as a big-endian integer. Cached; for k <= CACHED_DATA_BITS (longer codebooks are streamed)."""
+    _check(k, n)
+    if int(k) > CACHED_DATA_BITS:
+        raise ValueError(f"a codebook of 2^{k} words is not built whole (at most 2^{CACHED_DATA_BITS})")
     return _codebook(str(key), str(method), str(kind), int(k), int(n))
 
 
@@ -97,7 +111,8 @@ def encode(data: np.ndarray, kind: str, key: str, method: str, C: int) -> np.nda
     """(C,) coded bits (0/1) carrying the k data bits: carrier i takes code bit i mod n."""
     data = np.asarray(data, np.uint8)
     n = code_bits(C)
-    c = np.unpackbits(codebook(key, method, kind, data.size, n)[_word(data)])[:n]
+    _check(data.size, n)
+    c = np.unpackbits(_keystream(str(key), str(method), str(kind), data.size, n, _word(data), 1)[0])[:n]
     return c[np.arange(int(C)) % n]
 
 
@@ -128,30 +143,62 @@ def threshold(weights: np.ndarray, k: int, alpha: float = ALPHA) -> int:
     return int(ok[-1]) if ok.size else -1
 
 
-def scores(llr: np.ndarray, k: int, kind: str, key: str, method: str):
-    """(D, weights): every word's weighted disagreement with the received word, and the weights."""
+def _weights(llr: np.ndarray):
+    """(n, weights, packed hard bits): the reliabilities summed per code bit and quantized."""
     llr = np.asarray(llr, np.float64)
     n = code_bits(llr.size)
-    nb = (n + 7) // 8
     acc = np.bincount(np.arange(llr.size) % n, weights=llr, minlength=n)
     mx = float(np.abs(acc).max()) if acc.size else 0.0
     a = np.rint(LEVELS * np.abs(acc) / mx).astype(np.int64) if mx > 0 else np.zeros(n, np.int64)
-    h = np.packbits((acc > 0).astype(np.uint8))
+    return n, a, np.packbits((acc > 0).astype(np.uint8))
+
+
+def _padded(a: np.ndarray, nb: int) -> np.ndarray:
     apad = np.zeros(nb * 8, np.int32)
-    apad[:n] = a
-    return np.asarray(_core.codebook_disagreement(codebook(key, method, kind, k, n), h, apad), np.int64), a
+    apad[:a.size] = a
+    return apad
+
+
+def scores(llr: np.ndarray, k: int, kind: str, key: str, method: str):
+    """(D, weights): every word's weighted disagreement with the received word, and the weights
+    (k <= CACHED_DATA_BITS)."""
+    n, a, h = _weights(llr)
+    book = codebook(key, method, kind, k, n)
+    return np.asarray(_core.codebook_disagreement(book, h, _padded(a, book.shape[1])), np.int64), a
+
+
+def _search(llr: np.ndarray, k: int, kind: str, key: str, method: str):
+    """(best word, its disagreement, how many words share it, weights): over all 2^k words, the codebook
+    cached (k <= CACHED_DATA_BITS) or streamed in blocks of CHUNK_WORDS (2^24 words: about 0.3 s)."""
+    if k <= CACHED_DATA_BITS:
+        D, a = scores(llr, k, kind, key, method)
+        w = int(np.argmin(D))
+        return w, int(D[w]), int((D == D[w]).sum()), a
+    n, a, h = _weights(llr)
+    nb = (n + 7) // 8
+    apad = _padded(a, nb)
+    best, dmin, ties = -1, None, 0
+    for first in range(0, 1 << k, CHUNK_WORDS):  # blocks of a million words, not elements
+        count = min(CHUNK_WORDS, (1 << k) - first)
+        D = np.asarray(_core.codebook_disagreement(_keystream(key, method, kind, k, n, first, count), h, apad))
+        j = int(np.argmin(D))
+        d = int(D[j])
+        if dmin is None or d < dmin:
+            best, dmin, ties = first + j, d, int((D == d).sum())
+        elif d == dmin:
+            ties += int((D == d).sum())
+    return best, dmin, ties, a
 
 
 def decode(llr: np.ndarray, k: int, kind: str, key: str, method: str, alpha: float = ALPHA):
     """(data bits or None, reason): the maximum-likelihood word if it passes the threshold (a wrong word
     passes with probability <= ``alpha``, 1e-6, per attempt)."""
-    D, a = scores(llr, k, kind, key, method)
-    w = int(np.argmin(D))
-    dmin = int(D[w])
+    _check(k, code_bits(np.asarray(llr).size))
+    w, dmin, ties, a = _search(llr, k, kind, key, method)
     tau = threshold(a, k, alpha)
     if dmin > tau:
         return None, (f"no codeword is close enough to be accepted (best {dmin} against at most {tau} weighted "
                       "disagreements: too many carrier errors to decode the message)")
-    if int((D == dmin).sum()) > 1:
+    if ties > 1:
         return None, "two codewords are equally close (the message cannot be decided)"
     return ((w >> np.arange(k - 1, -1, -1)) & 1).astype(np.uint8), ""
