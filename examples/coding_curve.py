@@ -107,14 +107,56 @@ def run_point(k: int, C: int, kind: str, p: float, frames: int, rng):
     return old_ok / frames, k7_ok / frames, new_ok / frames, old_wrong, k7_wrong, new_wrong
 
 
+def plot(rows, path):
+    """Success against the bit-error rate, one panel per channel, one colour per (k, C): default solid,
+    tbcc7 dotted, old dashed (legend beside the panels)."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return
+    channels = list(dict.fromkeys(x["channel"] for x in rows))
+    configs = list(dict.fromkeys((int(x["payload_bits"]), int(x["carriers"])) for x in rows))
+    fig, axes = plt.subplots(1, len(channels), figsize=(4.5 * len(channels) + 2.5, 4.2), sharey=True, squeeze=False)
+    for ax, kind in zip(axes[0], channels):
+        for i, (k, C) in enumerate(configs):
+            r = [x for x in rows if x["channel"] == kind and int(x["payload_bits"]) == k and int(x["carriers"]) == C]
+            b = [float(x["ber"]) for x in r]
+            col = f"C{i}"
+            ax.plot(b, [float(x["new_success"]) for x in r], "-o", ms=3, color=col, label=f"k={k}, C={C}")
+            ax.plot(b, [float(x["tbcc7_success"]) for x in r], ":", color=col)
+            ax.plot(b, [float(x["old_success"]) for x in r], "--", color=col, alpha=0.5)
+        ax.axhline(0.99, color="k", lw=0.6)
+        ax.set_title(f"{kind} bit errors")
+        ax.set_xlabel("raw bit-error rate")
+        ax.grid(alpha=.3)
+    axes[0][0].set_ylabel(f"message success ({rows[0]['frames']} frames / point)")
+    h, lab = axes[0][-1].get_legend_handles_labels()
+    h += [plt.Line2D([], [], color="k", ls=s_) for s_ in ("-", ":", "--")]
+    lab += ["default (solid)", "tbcc7 (dotted)", "old (dashed)"]
+    fig.legend(h, lab, loc="center right", fontsize=7)
+    fig.tight_layout(rect=(0, 0, 1 - 2.3 / (4.5 * len(channels) + 2.5), 1))
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--frames", type=int, default=10_000)
     ap.add_argument("--channels", default=",".join(CHANNELS), help="comma-separated subset of " + ",".join(CHANNELS))
+    ap.add_argument("--plot", nargs="+", metavar="CSV", help="only draw the plot from coding_curve.csv files")
     ap.add_argument("--bers", default="", help="subset of the bit-error rates, e.g. 0.1")
     ap.add_argument("--configs", default="", help="subset of the configurations, e.g. 24:138,64:318 (k:C)")
     ap.add_argument("--out", default=os.path.join(HERE, "out", "coding_curve"))
     a = ap.parse_args(argv)
+    if a.plot:
+        import csv
+        rows = [r for p in a.plot for r in csv.DictReader(open(p))]
+        os.makedirs(a.out, exist_ok=True)
+        plot(rows, os.path.join(a.out, "coding_curve.png"))
+        print(f"wrote {a.out}/coding_curve.png")
+        return 0
     from _common import write_csv
     rng = np.random.default_rng(2013)
     rows = []
@@ -147,28 +189,7 @@ def main(argv=None):
                                    for x in r) + " |\n")
         wrong = sum(x["new_wrong"] + x["tbcc7_wrong"] for x in rows)
         f.write(f"\nWrong messages (tbcc7 + default) in {2 * len(rows) * a.frames:,} decoded frames: {wrong}\n")
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, axes = plt.subplots(1, len(channels), figsize=(5 * len(channels), 4), sharey=True)
-        for ax, kind in zip(np.atleast_1d(axes), channels):
-            for i, (k, C) in enumerate(configs):
-                r = [x for x in rows if x["channel"] == kind and x["payload_bits"] == k and x["carriers"] == C]
-                col = f"C{i}"
-                ax.plot(bers, [x["new_success"] for x in r], "-o", color=col, label=f"default k={k} C={C}")
-                ax.plot(bers, [x["tbcc7_success"] for x in r], ":", color=col, label=f"tbcc7 k={k} C={C}")
-                ax.plot(bers, [x["old_success"] for x in r], "--x", color=col, label=f"old k={k} C={C}")
-            ax.set_title(f"{kind} bit errors")
-            ax.set_xlabel("raw bit-error rate")
-            ax.grid(alpha=.3)
-        axes = np.atleast_1d(axes)
-        axes[0].set_ylabel(f"message success ({a.frames} frames / point)")
-        axes[-1].legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(os.path.join(a.out, "coding_curve.png"), dpi=110)
-    except ImportError:
-        pass
+    plot(rows, os.path.join(a.out, "coding_curve.png"))
     print(f"wrote {a.out}/coding_curve.{{csv,md,png}} in {time.perf_counter() - t0:.0f} s")
     return 0
 
