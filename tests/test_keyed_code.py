@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from scipy.stats import binom
 
+from meshmark import MeshError
 from meshmark.watermark import coding, keyed_code as kc
 
 
@@ -129,7 +130,7 @@ def test_streamed_blocks_are_the_codebook_and_search_the_same(monkeypatch):
     assert all((a[0] is None and b[0] is None) or np.array_equal(a[0], b[0]) for a, b in zip(ref, got))
     right = sum(a[0] is not None and np.array_equal(a[0], d) for a, (d, _) in zip(ref, frames))
     assert 30 <= right < 60, right
-    with pytest.raises(ValueError, match="not built whole"):
+    with pytest.raises(MeshError, match="not built whole"):
         kc.codebook("k", "laplacian", "bits", 12, 101)
 
 
@@ -141,3 +142,10 @@ def test_24_bit_payload_round_trip_and_wrong_key():
     got, reason = coding.decode(y, 24, "text", "k", "laplacian")
     assert reason == "" and np.array_equal(got, data)
     assert coding.decode(2.0 * c - 1, 24, "text", "other", "laplacian")[0] is None
+
+
+def test_out_of_range_lengths_are_a_mesh_error():
+    with pytest.raises(MeshError, match=r"takes 1..24 data bits and 1..256 code bits, got 25 and 100"):
+        kc.encode(np.zeros(25, np.uint8), "bits", "k", "laplacian", 100)
+    with pytest.raises(MeshError, match="got 30 and 120"):
+        coding.decode(np.ones(120), 30, "bits", "k", "laplacian", coding.KEYED)

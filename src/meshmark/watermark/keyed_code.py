@@ -41,6 +41,7 @@ from collections import OrderedDict
 import numpy as np
 
 from .. import _core
+from .._core import MeshError
 
 MAX_DATA_BITS = 24
 CACHED_DATA_BITS = 20  # codebooks up to 2^20 words are built whole and cached; longer ones are streamed
@@ -57,7 +58,8 @@ def code_bits(n_carriers: int) -> int:
 
 def _check(k: int, n: int) -> None:
     if not 1 <= int(k) <= MAX_DATA_BITS or not 1 <= int(n) <= MAX_CODE_BITS:
-        raise ValueError(f"keyed code takes 1..{MAX_DATA_BITS} data bits and 1..{MAX_CODE_BITS} code bits")
+        raise MeshError(f"the keyed code takes 1..{MAX_DATA_BITS} data bits and 1..{MAX_CODE_BITS} code bits, "
+                        f"got {k} and {n}")
 
 
 def _keystream(key: str, method: str, kind: str, k: int, n: int, first: int, count: int) -> np.ndarray:
@@ -98,7 +100,7 @@ def codebook(key: str, method: str, kind: str, k: int, n: int) -> np.ndarray:
     read as a big-endian integer. Cached; for k <= CACHED_DATA_BITS (longer codebooks are streamed)."""
     _check(k, n)
     if int(k) > CACHED_DATA_BITS:
-        raise ValueError(f"a codebook of 2^{k} words is not built whole (at most 2^{CACHED_DATA_BITS})")
+        raise MeshError(f"a codebook of 2^{k} words is not built whole (at most 2^{CACHED_DATA_BITS})")
     return _codebook(str(key), str(method), str(kind), int(k), int(n))
 
 
