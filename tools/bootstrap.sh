@@ -58,7 +58,11 @@ fi
 
 if [ "$need_build" = 1 ]; then
   say "building meshmark (Release) into .venv"
-  "$VPY" -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" "numpy>=1.23,<2" click
+  # ccache, when installed, makes a rebuild in a fresh build tree (another checkout) cheap; not needed.
+  if command -v ccache >/dev/null 2>&1 && [ -z "${CMAKE_CXX_COMPILER_LAUNCHER:-}" ]; then
+    export CMAKE_CXX_COMPILER_LAUNCHER=ccache CCACHE_BASEDIR="$ROOT"
+  fi
+  "$VPY" -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" "numpy>=1.23,<2" click wheel "setuptools>=68"
   extras=""
   [ "$want_tests" = 1 ] && extras="[test]"
   "$VPY" -m pip install -q --no-build-isolation -Cbuild-dir=build/py \
