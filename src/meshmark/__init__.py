@@ -13,6 +13,7 @@ Modules, one per concern (thesis chapters get their own modules as they land):
 * :mod:`meshmark.attacks` — attacks: similarity, reordering, noise, smoothing, quantization,
   simplification, subdivision, cropping, storage round trips;
 * :mod:`meshmark.metrics` — distortion (RMSE, surface distance, normal degradation) and watermark measures;
+* :mod:`meshmark.parts` — several meshes (a character's parts) joined as one carrier and split back;
 * :mod:`meshmark.shapes` — built-in procedural meshes (the default inputs of the demos);
 * :mod:`meshmark.cli` — the ``meshmark`` command.
 """
@@ -24,7 +25,7 @@ from .topology import (unique_edges, vertex_adjacency, valence, boundary_edges, 
 from .geometry import (triangulate, face_normals, face_areas, interior_angles, dihedral_angles,
                        angle_sum, pca)
 from .info import mesh_info
-from . import attacks, metrics
+from . import attacks, metrics, parts
 
 __version__ = "0.1.0"
 
