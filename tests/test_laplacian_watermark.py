@@ -256,8 +256,10 @@ def test_cli_embed_extract_capacity(tmp_path):
     src = str(shared_mesh("classic/elephant.off"))
     run = lambda *a: subprocess.run([sys.executable, "-m", "meshmark.cli", *a], capture_output=True, text=True)
     c = json.loads(run("capacity", src, "--method", "laplacian", "--json").stdout)
-    assert c["capacity"] == 44 and c["params"]["K"] == 286  # the thesis parameters
-    assert c["max_message_bits"] == 9 and c["auto"]["max_message_bits"] > 9
+    # the default (--params auto, as the API): the first rung, N/70 bins with the local carrier
+    assert c["capacity"] == 77 and c["params"]["K"] == 286 and c["params"]["carrier"] == "local"
+    assert c["thesis"]["capacity"] == 44 and c["thesis"]["params"]["K"] == 286  # the thesis parameters
+    assert c["thesis"]["max_message_bits"] == 9 and c["auto"]["max_message_bits"] == c["max_message_bits"] > 9
     out, kf = str(tmp_path / "m.ply"), str(tmp_path / "k.json")
     e = run("embed", src, out, "--method", "laplacian", "--bits", "1011001110", "--key", "abc", "--keyfile", kf, "--json")
     assert e.returncode == 0, e.stderr

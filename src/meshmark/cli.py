@@ -302,8 +302,9 @@ def extract(inp, keyfile, key, as_json):
 @_method_options
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def capacity(inp, method, as_json, params_mode, **method_params):
-    """How many carrier bits IN offers to a method, and the longest message that fits, with the
-    published defaults (thesis) and with automatic parameters (auto)."""
+    """How many carrier bits IN offers to a method and the longest message that fits, with the
+    parameters of --params (auto, the default, as in the Python API's capacity(); or thesis), and the
+    longest message under each of the two."""
     from . import read_mesh, weld_vertices
     from .watermark import METHODS
     from .watermark.auto import choose, longest_payload_bits
@@ -316,16 +317,25 @@ def capacity(inp, method, as_json, params_mode, **method_params):
     weld = params.pop("weld")
     if weld:
         mesh = weld_vertices(mesh).mesh
-    p, ids, _, _ = choose(mesh, m, "thesis", params, None)
+    p, ids, _, _ = choose(mesh, m, params_mode, params, None)  # = watermark.capacity(params=params_mode)
     cap = int(len(ids))
-    fit = min(max_data_bits(cap), MAX_DATA_BITS)
+    if params_mode == "thesis":
+        thesis_p, thesis_cap = p, cap
+    else:
+        thesis_p, ids_t, _, _ = choose(mesh, m, "thesis", params, None)
+        thesis_cap = int(len(ids_t))
+    thesis_fit = min(max_data_bits(thesis_cap), MAX_DATA_BITS)
     auto_fit = min(longest_payload_bits(mesh, m, params), MAX_DATA_BITS)
-    d = {"input": inp, "method": method, "params": p, "weld": weld, "n_vertices": mesh.n_vertices, "capacity": cap,
-         "max_message_bits": fit, "max_text_bytes": fit // 8,
+    fit = thesis_fit if params_mode == "thesis" else auto_fit
+    d = {"input": inp, "method": method, "params_mode": params_mode, "params": p, "weld": weld,
+         "n_vertices": mesh.n_vertices, "capacity": cap, "max_message_bits": fit, "max_text_bytes": fit // 8,
+         "thesis": {"params": thesis_p, "capacity": thesis_cap, "max_message_bits": thesis_fit,
+                    "max_text_bytes": thesis_fit // 8},
          "auto": {"max_message_bits": auto_fit, "max_text_bytes": auto_fit // 8}}
-    _emit(d, as_json, f"{inp}: {cap} carrier bits with the {method} method and the thesis parameters "
-                      f"({m.describe(p)}): a message of up to {fit} bits ({fit // 8} text bytes) fits; "
-                      f"with --params auto up to {auto_fit} bits ({auto_fit // 8} text bytes)")
+    _emit(d, as_json, f"{inp}: {cap} carrier bits with the {method} method and --params {params_mode} "
+                      f"({m.describe(p)}); the longest message: {auto_fit} bits ({auto_fit // 8} text bytes) "
+                      f"with --params auto, {thesis_fit} bits ({thesis_fit // 8} text bytes) with the thesis "
+                      f"parameters ({thesis_cap} carrier bits)")
 
 
 # --- attack / compare ---------------------------------------------------------------------------------
