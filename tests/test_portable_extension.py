@@ -89,6 +89,30 @@ def test_wheel_is_manylinux(dist):
         assert "manylinux" in z.read("blender_manifest.toml").decode()
 
 
+def test_licence_and_notices_ship_in_wheel_and_zips(dist):
+    """GPL-3.0-or-later (CGAL's GPL packages are compiled in), with the licence text and the third-party
+    notices inside the wheel's .dist-info, the extension zip and the legacy zip."""
+    gpl = (ROOT / "LICENSE").read_text()
+    assert "GNU GENERAL PUBLIC LICENSE" in gpl and "Version 3, 29 June 2007" in gpl
+    wheel = next((ROOT / "build" / "ext-wheels-repaired").glob("meshmark-*manylinux_2_*_x86_64.whl"))
+    with zipfile.ZipFile(wheel) as z:
+        names = z.namelist()
+        meta = z.read(next(n for n in names if n.endswith(".dist-info/METADATA"))).decode()
+        assert "License-Expression: GPL-3.0-or-later" in meta
+        lic = [n for n in names if n.endswith(".dist-info/licenses/LICENSE")]
+        notices = [n for n in names if n.endswith(".dist-info/licenses/THIRD_PARTY_NOTICES.md")]
+        assert lic and notices and z.read(lic[0]).decode() == gpl
+        assert "CHOLMOD" in z.read(notices[0]).decode() and "CGAL" in z.read(notices[0]).decode()
+    ext = next(dist.glob("meshmark-*[0-9].zip"))
+    with zipfile.ZipFile(ext) as z:
+        assert z.read("LICENSE").decode() == gpl and "OpenBLAS" in z.read("THIRD_PARTY_NOTICES.md").decode()
+        assert 'license = ["SPDX:GPL-3.0-or-later"]' in z.read("blender_manifest.toml").decode()
+    legacy = next(dist.glob("meshmark_blender-*-legacy.zip"))
+    with zipfile.ZipFile(legacy) as z:
+        assert z.read("meshmark_blender/LICENSE").decode() == gpl
+        assert "pybind11" in z.read("meshmark_blender/THIRD_PARTY_NOTICES.md").decode()
+
+
 def test_legacy_zip_has_one_top_level_folder(dist):
     legacy = next(dist.glob("meshmark_blender-*-legacy.zip"))
     with zipfile.ZipFile(legacy) as z:

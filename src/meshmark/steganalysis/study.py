@@ -208,9 +208,8 @@ def protocol(cfg: dict, base: pathlib.Path, out: pathlib.Path, log) -> list[str]
 
 
 def _plots(out, table, curve, splits):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ..optional import pyplot
+    plt = pyplot("the steganalysis study's plots")
     if curve:  # Figs. 8.3-8.5: accuracy against the number of principal components
         fig, ax = plt.subplots(figsize=(8, 5))
         for d in sorted({c["detector"] for c in curve}):

@@ -135,9 +135,8 @@ def summarise(rows, cases):
 
 
 def plot(rows, cases, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ..optional import pyplot
+    plt = pyplot("the Table 6.2 plot")
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
     edges = np.array([10, 25, 50, 100, 200, 400, 800, 1600])

@@ -300,6 +300,9 @@ def run(spec, out, *, workers: int | None = None, dask: str | None = None, progr
         max_tasks: int | None = None) -> Summary:
     """Run (or resume) the study ``spec`` (path, TOML text, dict or Spec) with results under ``out``."""
     log = log or (lambda s: print(s, file=sys.stderr, flush=True))
+    if dask:  # before anything is planned or written
+        from ..optional import require
+        require("distributed", "a Dask study (--dask)")
     kind = task_kind(spec)
     if kind is not None:
         return kind[0](kind[1], pathlib.Path(out), kind[2], log)

@@ -56,9 +56,8 @@ def _attack_name(r) -> str:
 
 
 def plot(results, out=None) -> list:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ..optional import pyplot
+    plt = pyplot("meshmark study plot")
 
     out = pathlib.Path(out) if out else pathlib.Path(results) / "plots"
     out.mkdir(parents=True, exist_ok=True)
