@@ -45,7 +45,7 @@ def test_one_third_point_on_fixed_frames():
     assert ok >= 1980, ok  # 99 %; measured 1,995 of 2,000
     ok, wrong = _decode_all(data, flips, coding.TBCC)
     assert wrong == 0
-    assert 1940 <= ok < 1980, ok  # measured 1,961 of 2,000: below the target, why the keyed code exists
+    assert ok >= 1940, ok  # measured 1,961 of 2,000: below the 99 % target, why the keyed code exists
     data, flips = _frames(2000, P, seed=12, C=102)
     ok, wrong = _decode_all(data, flips)
     assert wrong == 0

@@ -79,7 +79,7 @@ def test_yang_matches_reference(rel):
     m = meshmark.read_mesh(shared_mesh(rel))
     V = referenced(m)
     bits = np.random.default_rng(2).integers(0, 2, 64)
-    n_thr = radial.default_n_thr(len(V))
+    n_thr = radial.default_n_thr(len(V), rule="table6.1")
     assert n_thr == {"classic/cow.obj": 8, "classic/bunny.obj": 43}[rel]  # Table 6.1
     V1, info = radial.embed_bits(V, None, bits)
     V2, rinfo = ref.yang_radial_embed(V, bits, K=400, n_thr=n_thr)
@@ -122,10 +122,32 @@ def test_yang_origin_and_eq_6_1_5(cow):
 
 
 def test_default_n_thr_rule():
-    assert [radial.default_n_thr(n) for n in (34835, 70658, 100759, 50000, 2904)] == [43, 80, 100, 75, 8]
-    assert radial.default_n_thr(34834) == 43 and radial.default_n_thr(2903) == 8  # our files: one vertex fewer
-    assert radial.default_n_thr(20007) == round(0.0245 * 20007 ** 0.726)  # elephant: the power-law rule
-    assert radial.default_n_thr(34835, K=200) == 86
+    """The default is the power law fitted to Table 6.1; the thesis rule interpolates Table 6.1 itself.
+    Both are continuous in the vertex count: no jump at a thesis model's count (50,000 -> 75 used to
+    become 63 at 50,002)."""
+    thesis_counts = (34835, 70658, 100759, 50000, 2904)
+    assert [radial.default_n_thr(n, rule="table6.1") for n in thesis_counts] == [43, 80, 100, 75, 8]  # Table 6.1
+    assert radial.default_n_thr(34834, rule="table6.1") == 43 and radial.default_n_thr(2903, rule="table6.1") == 8
+    assert radial.default_n_thr(34835, K=200, rule="table6.1") == 86
+    for n in (20007, 34834, 50000, 50002):
+        assert radial.default_n_thr(n) == round(0.0245 * n ** 0.726)  # the power law, whatever the count
+    n = np.arange(100, 2_000_000, 7)
+    for rule in radial.N_THR_RULES:
+        thr = np.array([radial.default_n_thr(int(x), rule=rule) for x in n[::997]] +
+                       [radial.default_n_thr(int(x), rule=rule) for x in range(49_990, 50_010)])
+        assert np.abs(np.diff(thr[-20:])).max() <= 1, rule  # around the Dragon's count
+        assert (np.diff(thr[:-20]) >= 0).all(), rule  # monotone in N
+    with pytest.raises(meshmark.MeshError, match="n_thr rule"):
+        radial.default_n_thr(1000, rule="table")
+
+
+def test_thesis_parameters_take_table_6_1():
+    m = meshmark.read_mesh(shared_mesh("classic/bunny.obj"))
+    assert meshmark.watermark.capacity(m, method="radial", params="thesis") == \
+        meshmark.watermark.capacity(m, method="radial", n_thr=43)
+    p_auto = radial.METHOD.resolve(m, {})
+    p_thesis = radial.METHOD.resolve(m, {"n_thr_rule": "table6.1"})
+    assert (p_auto["n_thr"], p_thesis["n_thr"]) == (49, 43)
 
 
 def test_paper_mode_loses_bits_on_small_meshes_and_the_fixes_do_not(cow):

@@ -34,8 +34,9 @@ from . import coding
 MODES = ("auto", "thesis")
 
 # ``params="thesis"`` is the published set: beyond the numbers, the published carrier (the Laplacian
-# length over the global mean edge length, eq. 7.1.5; docs/carrier.md), unless given explicitly.
-THESIS_CHOICES = {"laplacian": {"carrier": "thesis"}}
+# length over the global mean edge length, eq. 7.1.5; docs/carrier.md) and radial's n_thr from Table 6.1
+# (interpolated between the thesis' models, radial.default_n_thr), unless given explicitly.
+THESIS_CHOICES = {"laplacian": {"carrier": "thesis"}, "radial": {"n_thr_rule": "table6.1"}}
 
 # method -> rungs; a rung is a function (n_referenced) -> dict of parameters
 LADDERS = {

@@ -9,9 +9,10 @@ by moving ``n_mov`` radii (cases 1-3, eq. 6.1.7) into the other bin of the pair 
 the count difference reaches ``n_thr`` (eq. 6.1.6), and read as which bin is larger (eq. 6.2.10:
 bit 1 <=> ``|B_k| > |B_k+1|``).
 
-Defaults: ``K = 400`` (§6.3.2); ``n_thr`` from Table 6.1 for the thesis' models (recognised by their
-vertex count, +-1), else ``max(1, round(0.0245 N^0.726 400 / K))`` (:func:`default_n_thr`, a power law
-through Table 6.1; docs/radial.md §2).
+Defaults: ``K = 400`` (§6.3.2); ``n_thr = max(1, round(0.0245 N^0.726 400 / K))`` (:func:`default_n_thr`,
+a power law fitted to Table 6.1; docs/radial.md §2). ``params="thesis"`` and :func:`embed_bits` take
+n_thr from Table 6.1 itself, interpolated between its models (continuous in N; the published values at
+the thesis' vertex counts).
 
 :func:`embed` / :func:`extract` go through the framework (keys, framing, keyfile, detection; the frame is
 repeated over every embeddable pair); :func:`embed_bits` / :func:`extract_bits` are the thesis' use (bit
@@ -39,13 +40,37 @@ TABLE_6_1 = {"bunny": (34835, 43), "rabbit": (70658, 80), "venus": (100759, 100)
              "cow": (2904, 8)}
 
 
-def default_n_thr(n_vertices: int, K: int = 400) -> int:
-    """n_thr of Table 6.1 when ``n_vertices`` is a thesis model's count (+-1; scaled by 400/K), else the
-    power law ``max(1, round(0.0245 * N**0.726 * 400 / K))`` fitted to Table 6.1 (docs/radial.md)."""
-    for n_t, thr in TABLE_6_1.values():
-        if abs(int(n_vertices) - n_t) <= 1:
-            return max(1, int(round(thr * 400.0 / K)))
-    return max(1, int(round(0.0245 * float(n_vertices) ** 0.726 * 400.0 / K)))
+# Table 6.1's points in ascending vertex count, and the power law fitted to them (docs/radial.md §2).
+_T61_N = np.array(sorted(n for n, _ in TABLE_6_1.values()), dtype=np.float64)
+_T61_THR = np.array([thr for _, thr in sorted(TABLE_6_1.values())], dtype=np.float64)
+N_THR_RULES = ("power", "table6.1")
+
+
+def _power_law(n: float) -> float:
+    return 0.0245 * n ** 0.726
+
+
+def default_n_thr(n_vertices: int, K: int = 400, rule: str = "power") -> int:
+    """The default eq. 6.1.6 count difference for ``n_vertices`` referenced vertices and ``K`` bins,
+    continuous in the vertex count (it moves by at most 1 from one count to the next).
+
+    ``rule="power"`` (the default parameters): ``max(1, round(0.0245 N^0.726 400 / K))``, the power law
+    fitted to Table 6.1. ``rule="table6.1"`` (``params="thesis"`` and the thesis' own use,
+    :func:`embed_bits`): log-log linear interpolation through Table 6.1's five (N, n_thr) points, so the
+    thesis' models get the published values (Bunny 43, Rabbit 80, Venus 100, Dragon 75, Cow 8), and
+    the power law scaled to meet the end points beyond them."""
+    if rule not in N_THR_RULES:
+        raise MeshError(f"n_thr rule must be one of {', '.join(N_THR_RULES)}, got {rule!r}")
+    n = max(1.0, float(n_vertices))
+    if rule == "power":
+        thr = _power_law(n)
+    elif n <= _T61_N[0]:
+        thr = _power_law(n) * _T61_THR[0] / _power_law(_T61_N[0])
+    elif n >= _T61_N[-1]:
+        thr = _power_law(n) * _T61_THR[-1] / _power_law(_T61_N[-1])
+    else:
+        thr = float(np.exp(np.interp(np.log(n), np.log(_T61_N), np.log(_T61_THR))))
+    return max(1, int(round(thr * 400.0 / K)))
 
 
 def pair_counts(counts: np.ndarray, K: int):
@@ -58,6 +83,8 @@ class _Radial:
     name = NAME
 
     def resolve(self, mesh: Mesh, params: dict) -> dict:
+        params = dict(params)
+        rule = params.pop("n_thr_rule", "power")  # "table6.1" from params="thesis" (auto.THESIS_CHOICES)
         p = framework.merge_params("radial", DEFAULTS, params)
         p["K"], p["origin_iters"] = check_int("K", p["K"]), check_int("origin_iters", p["origin_iters"])
         if p["origin_mode"] not in ("axis", "vertices"):
@@ -66,7 +93,7 @@ class _Radial:
         if n < p["K"]:
             raise MeshError(f"the mesh has {n} referenced vertices but K = {p['K']} bins were asked for: "
                             "fewer vertices than bins")
-        p["n_thr"] = default_n_thr(n, p["K"]) if p["n_thr"] is None else check_int("n_thr", p["n_thr"])
+        p["n_thr"] = default_n_thr(n, p["K"], rule) if p["n_thr"] is None else check_int("n_thr", p["n_thr"])
         return p
 
     def describe(self, p: dict) -> str:
@@ -138,7 +165,7 @@ def embed_bits(V, F=None, bits=None, K: int = 400, n_thr: int | None = None, ori
         raise MeshError("bits must be a non-empty sequence of 0 and 1")
     n = int(mask.sum())
     K = check_int("K", K)
-    n_thr = default_n_thr(n, K) if n_thr is None else check_int("n_thr", n_thr)
+    n_thr = default_n_thr(n, K, "table6.1") if n_thr is None else check_int("n_thr", n_thr)
     r = _core.radial_embed(V, mask, K, None, (2 * b.astype(int) - 1).tolist(), n_thr, origin_mode,
                            check_int("origin_iters", origin_iters))
     V2 = r.pop("V")
