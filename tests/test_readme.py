@@ -33,6 +33,11 @@ def _session() -> list:
     return cmds
 
 
+def test_the_session_covers_the_commands():
+    names = {c.split()[1] for c, _ in _session()}
+    assert {"info", "capacity", "embed", "extract", "attack", "compare", "steganalysis", "issue", "trace"} <= names
+
+
 def test_cli_session(tmp_path):
     """Every `$mm` line of the session, in order, in one folder (later commands read earlier outputs)."""
     shutil.copy(shared_mesh("classic/bunny.obj"), tmp_path / "bunny.obj")
