@@ -9,8 +9,6 @@ import json
 import os
 import re
 import struct
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -22,7 +20,17 @@ from meshmark.watermark.payload import Payload
 from conftest import shared_mesh
 from gltf_assets import OCTA_F, OCTA_V, asset, glb_bytes, gltf_bytes
 
-MM = [sys.executable, "-m", "meshmark.cli"]
+
+
+def run(*args):
+    """The meshmark command in this process: (exit status, stdout, stderr)."""
+    from click.testing import CliRunner
+    from meshmark.cli import main
+    r = CliRunner().invoke(main, [str(a) for a in args])
+    if r.exception and not isinstance(r.exception, SystemExit):
+        raise r.exception
+    return r.exit_code, r.stdout, r.stderr
+
 BOUNDS = re.compile(rb'"(?:min|max)"\s*:\s*\[[^\]]*\]\s*')
 
 
@@ -90,10 +98,9 @@ def test_embed_rigged_changes_only_positions(name, tmp_path):
     out, kf = tmp_path / "marked.glb", tmp_path / "k.json"
     args = ["--bits", "1", "--K", "100", "--n-thr", "1", "--n-robust", "1", "--carrier", "thesis"] if name == "Fox" \
         else ["--message", "K"]
-    r = subprocess.run(MM + ["embed", str(src), str(out), "--key", name, "--keyfile", str(kf), "--json"] + args,
-                       capture_output=True, text=True)
-    assert r.returncode == 0, r.stderr
-    d = json.loads(r.stdout)
+    r = run("embed", str(src), str(out), "--key", name, "--keyfile", str(kf), "--json", *args)
+    assert r[0] == 0, r[2]
+    d = json.loads(r[1])
     assert d["input"] == str(src) and d["output"] == str(out)
     data_in, data_out = src.read_bytes(), out.read_bytes()
     changed, n_bytes = _check_only_positions_changed(data_in, data_out)
@@ -106,10 +113,10 @@ def test_embed_rigged_changes_only_positions(name, tmp_path):
         a = doc["accessors"][part.accessor]
         assert np.array_equal(np.float32(a["min"]), Vp.min(0).astype(np.float32))
         assert np.array_equal(np.float32(a["max"]), Vp.max(0).astype(np.float32))
-    r = subprocess.run(MM + ["extract", str(out), "--keyfile", str(kf), "--json"], capture_output=True, text=True)
-    assert r.returncode == 0 and json.loads(r.stdout)["detected"], r.stdout + r.stderr
-    r = subprocess.run(MM + ["extract", str(src), "--keyfile", str(kf)], capture_output=True, text=True)
-    assert r.returncode == 1  # the unmarked original
+    r = run("extract", str(out), "--keyfile", str(kf), "--json")
+    assert r[0] == 0 and json.loads(r[1])["detected"], r[1] + r[2]
+    r = run("extract", str(src), "--keyfile", str(kf))
+    assert r[0] == 1  # the unmarked original
 
 
 def test_read_rigged_counts_and_roundtrip(tmp_path):
@@ -249,26 +256,22 @@ def test_plain_mesh_as_minimal_gltf(tmp_path):
 def test_cli_stego_and_issue_write_back(tmp_path):
     src = shared_mesh("rigged/Fox.glb")
     out = tmp_path / "st.glb"
-    r = subprocess.run(MM + ["stego", "embed", str(src), str(out), "--message", "hi", "--key", "k", "--precision",
-                             "float32", "--json"], capture_output=True, text=True)
-    assert r.returncode == 0, r.stderr
+    r = run("stego", "embed", str(src), str(out), "--message", "hi", "--key", "k", "--precision", "float32", "--json")
+    assert r[0] == 0, r[2]
     _check_only_positions_changed(src.read_bytes(), out.read_bytes())
-    r = subprocess.run(MM + ["stego", "extract", str(out), "--key", "k", "--precision", "float32"],
-                       capture_output=True, text=True)
-    assert r.returncode == 0 and r.stdout.strip() == "hi"
-    r = subprocess.run(MM + ["stego", "embed", str(src), str(out), "--message", "hi", "--key", "k"],
-                       capture_output=True, text=True)
-    assert r.returncode == 2 and "float32" in r.stderr
+    r = run("stego", "extract", str(out), "--key", "k", "--precision", "float32")
+    assert r[0] == 0 and r[1].strip() == "hi"
+    r = run("stego", "embed", str(src), str(out), "--message", "hi", "--key", "k")
+    assert r[0] == 2 and "float32" in r[2]
     src = shared_mesh("rigged/Knight.glb")
-    r = subprocess.run(MM + ["issue", str(src), str(tmp_path / "c"), "--copies", "2", "--key", "s", "--registry",
-                             str(tmp_path / "r.sqlite"), "--json"], capture_output=True, text=True)
-    assert r.returncode == 0, r.stderr
-    copies = json.loads(r.stdout)["copies"]
+    r = run("issue", str(src), str(tmp_path / "c"), "--copies", "2", "--key", "s", "--registry",
+                             str(tmp_path / "r.sqlite"), "--json")
+    assert r[0] == 0, r[2]
+    copies = json.loads(r[1])["copies"]
     for c in copies:
         _check_only_positions_changed(src.read_bytes(), open(c["path"], "rb").read())
-    r = subprocess.run(MM + ["trace", copies[1]["path"], "--registry", str(tmp_path / "r.sqlite"), "--json"],
-                       capture_output=True, text=True)
-    assert r.returncode == 0 and json.loads(r.stdout)["copy"] == copies[1]["id"]
+    r = run("trace", copies[1]["path"], "--registry", str(tmp_path / "r.sqlite"), "--json")
+    assert r[0] == 0 and json.loads(r[1])["copy"] == copies[1]["id"]
 
 
 def test_cross_container_refused(tmp_path):
