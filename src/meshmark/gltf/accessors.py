@@ -8,6 +8,7 @@ since a hostile file can put anything in any field.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,7 +36,9 @@ def _typed(cls, d, what: str):
     if not isinstance(d, dict):
         raise MeshError(f"{what} is not a JSON object")
     try:
-        return cls.from_dict(d)
+        with warnings.catch_warnings():  # dataclasses_json warns about missing required fields: checked below
+            warnings.simplefilter("ignore")
+            return cls.from_dict(d)
     except Exception as exc:  # dataclasses_json raises whatever the field's type conversion raises
         raise MeshError(f"{what}: a field has the wrong type ({type(exc).__name__}: {str(exc)[:120]})") from None
 
