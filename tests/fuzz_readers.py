@@ -36,6 +36,7 @@ import traceback
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)  # fuzz_gltf, gltf_assets
 SHARED = os.path.join(os.environ.get("MESHMARK_SHARED", os.path.join(HERE, "..", "..", "shared")), "meshes")
 MB = 1 << 20
 BUDGET_FACTOR, BUDGET_EXTRA = 20, 64 * MB
@@ -266,13 +267,19 @@ def _noop_child() -> int:
     return ru.ru_maxrss * 1024
 
 
+FORMATS = ("obj", "off", "ply", "stl")  # the default campaign; glTF: formats=("glb", "gltf") (tests/fuzz_gltf.py)
+
+
 def run(cases: int, seed: int, keep: str | None = None, large: bool = False, progress: bool = False,
-        info: bool = False) -> dict:
+        info: bool = False, formats=FORMATS) -> dict:
     import meshmark
     _INFO[0] = info
     work = tempfile.mkdtemp(prefix="meshmark-fuzz-")
     try:
-        bases = make_bases(work, large=large)
+        bases = [b for b in make_bases(work, large=large) if b["ext"] in formats] if set(formats) & set(FORMATS) else []
+        if set(formats) & {"glb", "gltf"}:
+            import fuzz_gltf
+            bases += [b for b in fuzz_gltf.bases(SHARED) if b["ext"] in formats]
         for bs in bases:  # every base must read (they are real meshes); also warms the imports up
             p = os.path.join(work, "base." + bs["ext"])
             with open(p, "wb") as f:
@@ -293,7 +300,10 @@ def run(cases: int, seed: int, keep: str | None = None, large: bool = False, pro
         for i in range(cases):  # the formats in turn, and the bases of a format in turn
             group = by_ext[exts[i % len(exts)]]
             bs = group[(i // len(exts)) % len(group)]
-            data, what = mutate(bs["data"], rng)
+            if bs["ext"] in ("glb", "gltf"):
+                data, what = fuzz_gltf.mutate(bs["data"], bs["ext"], rng, mutate)
+            else:
+                data, what = mutate(bs["data"], rng)
             path = os.path.join(work, f"case{i}.{bs['ext']}")
             with open(path, "wb") as f:
                 f.write(data)
@@ -341,8 +351,10 @@ def main(argv=None):
     ap.add_argument("--large", action="store_true", help="also mutate the Horse PLY, Bunny OBJ and Elephant OFF")
     ap.add_argument("--info", action="store_true", help="also run mesh_info on every mesh that reads")
     ap.add_argument("--progress", action="store_true")
+    ap.add_argument("--formats", default=",".join(FORMATS), help="comma-separated: obj,off,ply,stl,glb,gltf")
     a = ap.parse_args(argv)
-    summary = run(a.cases, a.seed, keep=a.keep, large=a.large, progress=a.progress, info=a.info)
+    summary = run(a.cases, a.seed, keep=a.keep, large=a.large, progress=a.progress, info=a.info,
+                  formats=tuple(a.formats.split(",")))
     print(json.dumps(summary, indent=1))
     return 0 if not summary["failures"] else 1
 

@@ -27,3 +27,19 @@ def test_fuzz_readers_2000_cases(tmp_path):
     assert r.returncode == 0
     print(f"fuzz: {d['counts']} in {d['seconds']} s; closest to the budget {d['closest_to_budget']}; "
           f"largest growth per byte (files over 100 kB) {d['largest_growth_per_byte_of_files_over_100kB']}")
+
+
+def test_fuzz_gltf_readers(tmp_path):
+    """glTF (issue 26): 300 seeded cases over Fox.glb and hand-built .glb/.gltf octahedra (interleaved,
+    sparse, quantized, strips, morph targets): byte mutations of the container and JSON mutations
+    repacked with consistent lengths (hostile counts, offsets, strides, indices, types, node cycles,
+    deep nesting, cut JSON; tests/fuzz_gltf.py). Same rules as above."""
+    keep = tmp_path / "failures"
+    r = subprocess.run([sys.executable, os.path.join(HERE, "fuzz_readers.py"), "--cases", "300", "--seed", "26",
+                        "--formats", "glb,gltf", "--keep", str(keep)], capture_output=True, text=True, timeout=600)
+    assert r.stdout, r.stderr[-3000:]
+    d = json.loads(r.stdout)
+    assert d["cases"] == 300 and d["per_format"] == {"glb": 150, "gltf": 150}
+    assert d["counts"].get("ok", 0) >= 30 and d["counts"].get("meshError", 0) >= 150, d["counts"]
+    assert d["failures"] == [], json.dumps(d["failures"][:5], indent=1)
+    assert r.returncode == 0

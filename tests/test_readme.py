@@ -1,5 +1,5 @@
 """README's commands work as written: the command-line session and the Python example are run in a
-folder that holds the shared Bunny as `bunny.obj`, and every command's exit status is checked (0
+folder that holds the shared Bunny as `bunny.obj` (and the Knight as `hero.glb`), and every command's exit status is checked (0
 unless its comment says `exit N`). ./demo.sh and ./test.sh are run by CI itself."""
 import os
 import pathlib
@@ -41,6 +41,7 @@ def test_the_session_covers_the_commands():
 def test_cli_session(tmp_path):
     """Every `$mm` line of the session, in order, in one folder (later commands read earlier outputs)."""
     shutil.copy(shared_mesh("classic/bunny.obj"), tmp_path / "bunny.obj")
+    shutil.copy(shared_mesh("rigged/Knight.glb"), tmp_path / "hero.glb")
     env = {**os.environ, "mm": str(pathlib.Path(sys.executable).with_name("meshmark"))}
     for cmd, want in _session():
         r = subprocess.run(["bash", "-c", cmd], cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)

@@ -7,7 +7,7 @@ a :class:`Mesh` holding polygons of mixed sizes. The package never imports ``bpy
 Modules, one per concern (thesis chapters get their own modules as they land):
 
 * :mod:`meshmark.mesh` — the :class:`Mesh` model and input validation;
-* :mod:`meshmark.io` — reading and writing OBJ, OFF, PLY and STL;
+* :mod:`meshmark.io` — reading and writing OBJ, OFF, PLY, STL and glTF (:mod:`meshmark.gltf`);
 * :mod:`meshmark.topology` — edges, adjacency, boundary, components, manifoldness, welding;
 * :mod:`meshmark.geometry` — triangulation, normals, areas, angles, PCA;
 * :mod:`meshmark.attacks` — attacks: similarity, reordering, noise, smoothing, quantization,

@@ -127,6 +127,7 @@ def info(mesh, as_json):
         fmt = {"format": "builtin", "binary": False, "float32": False, "n_file_faces": m.n_faces, "n_dropped_faces": 0}
     else:
         (m, fmt), path = read_mesh(mesh, return_info=True), mesh
+        fmt = {k: (v.to_dict() if k == "gltf" else v) for k, v in fmt.items()}
     d = mesh_info(m)
     # Counts are of the file's records (as SOURCES.md lists them): faces dropped on reading
     # (collapsed, repeating a vertex) count in n_faces and are reported as n_dropped_faces.
@@ -226,8 +227,8 @@ def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_b
     temporary files that are renamed only when both are complete. An existing keyfile is replaced
     only with --force.
     """
-    from . import read_mesh, write_mesh
     from .atomic import check_writable, write_all
+    from .io import mesh_outputs, read_mesh
     from .watermark import METHODS, embed as wm_embed, save_keyfile
     from .watermark.payload import Payload
 
@@ -246,10 +247,9 @@ def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_b
     finally:
         if bar is not None:
             bar.__exit__(None, None, None)
-    float32 = bool(fmt["float32"]) and out.lower().endswith(".ply")
-    write_all([(out, lambda p: write_mesh(p, res.V, mesh, float32=float32)),
-               (keyfile, lambda p: save_keyfile(res.keyfile, p, overwrite=True))],  # checked above (--force)
-              what=["marked mesh", "keyfile"])
+    items = mesh_outputs(out, res.V, mesh, fmt)  # a glTF asset: only its positions change (docs/gltf.md)
+    write_all(items + [(keyfile, lambda p: save_keyfile(res.keyfile, p, overwrite=True))],  # checked above (--force)
+              what=["marked mesh"] * len(items) + ["keyfile"])
     d = {"input": inp, "output": out, "keyfile": keyfile, "key_stored": store_key, **res.to_dict()}
     coded = res.keyfile.coding
     how = (f"{coded['info_bits']} with the keyed check" if coded.get("check_bits") else "keyed code")
@@ -398,8 +398,10 @@ def attack(mesh_in, mesh_out, name, as_json, **opts):
       meshmark attack in.obj out.ply --type simplify --fraction 0.5
       meshmark attack in.obj out.ply --type crop --fraction 0.1
     """
-    from . import read_mesh, write_mesh
+    import numpy as np
+    from .atomic import write_all
     from .attacks import ATTACKS, attack as run_attack
+    from .io import mesh_outputs, read_mesh
     from .metrics import compare
 
     if name not in ATTACKS:
@@ -412,9 +414,10 @@ def attack(mesh_in, mesh_out, name, as_json, **opts):
     bad = [_OPTION_NAMES.get(k, "--" + k) for k, v in opts.items() if v is not None and _ATTACK_OPTIONS[k] not in accepted]
     if bad:
         raise MeshError(f"--type {name} does not take {', '.join(bad)}")
-    m = read_mesh(mesh_in)
+    m, fmt = read_mesh(mesh_in, return_info=True)
     out = run_attack(m, name=name, **params)
-    write_mesh(mesh_out, out)
+    same = np.array_equal(out.face_indices, m.face_indices) and np.array_equal(out.face_offsets, m.face_offsets)
+    write_all(mesh_outputs(mesh_out, out.V, m if same else out, fmt if same else None), what=["attacked mesh"])
     d = {"in": mesh_in, "out": mesh_out, "type": name, "params": params,
          "n_vertices": out.n_vertices, "n_faces": out.n_faces}
     text = f"{name}: wrote {mesh_out} ({out.n_vertices} vertices, {out.n_faces} faces)"
@@ -495,16 +498,11 @@ def steganalysis_cho(inp, K_min, K_max, eps, eps2, thesis_exact, false_reject, a
     _emit(d, as_json, text)
     sys.exit(0 if d["marked"] else 1)
 
+
 from .stego.cli import stego as _stego_cli; main.add_command(_stego_cli)  # noqa: E402  (meshmark stego ...)
-
-
 from .analysis.cli import analyze; main.add_command(analyze)  # noqa: E402,E702  (thesis ch. 3-5)
-
 from .steganalysis.cli import add_commands as _steganalysis_commands; _steganalysis_commands(steganalysis)  # noqa: E402,E702
-
-
 main.add_command(__import__("meshmark.study.cli", fromlist=["study"]).study)
-
 [main.add_command(_c) for _c in __import__("meshmark.cli_tracing", fromlist=["COMMANDS"]).COMMANDS]  # issue, trace
 
 if __name__ == "__main__":  # pragma: no cover

@@ -41,7 +41,8 @@ def _read_ids(path: str) -> list:
 def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, force, as_json):
     """Write marked copies of IN into OUTDIR (IN's format), each with its own codeword, and record
     them in the registry."""
-    from . import read_mesh, write_mesh
+    from .atomic import write_all
+    from .io import mesh_outputs, read_mesh
     from .watermark import tracing
 
     if (copies is None) == (ids_csv is None):
@@ -61,7 +62,7 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
         path = os.path.join(outdir, f"{stem}-{cid}{ext}")
         if os.path.exists(path) and not force:
             raise MeshError(f"{path} exists; pass --force to overwrite (the copies are recorded in the registry)")
-        write_mesh(path, V, mesh, float32=bool(fmt["float32"]) and ext.lower() == ".ply")
+        write_all(mesh_outputs(path, V, mesh, fmt), what=["copy"] * 2)  # a glTF copy: only its positions differ
         paths[cid] = path
     tracing.set_paths(registry, paths)
     d = {"input": inp, "registry": registry, "copies": [{"id": c, "path": p} for c, p in paths.items()]}

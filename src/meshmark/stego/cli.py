@@ -53,18 +53,20 @@ def _emit(d: dict, as_json: bool, text: str) -> None:
     click.echo(json.dumps(d, indent=2) if as_json else text)
 
 
-def write_verified(path: str, mesh, V: np.ndarray, precision: str, check) -> None:
+def write_verified(path: str, mesh, V: np.ndarray, precision: str, check, source=None) -> None:
     """Write ``mesh`` with positions ``V`` to ``path`` so that reading it back gives V exactly, then
     run ``check(read_mesh)`` (True = the message comes back); only then move it into place.
     MeshError (and no file) otherwise."""
     from ..io import read_mesh, write_mesh
 
     ext = os.path.splitext(path)[1].lower()
+    if ext in (".glb", ".gltf"):  # ``source``: the GltfInfo of the asset read (docs/gltf.md)
+        return _write_verified_gltf(path, source, V, precision, check)
     if ext == ".stl":
         raise MeshError("STL cannot carry stego data (it has no shared vertices: the reader welds them); "
                         "use .ply, .obj or .off")
     if ext not in (".ply", ".obj", ".off"):
-        raise MeshError(f"output {path!r}: unknown mesh format (expected .ply, .obj or .off)")
+        raise MeshError(f"output {path!r}: unknown mesh format (expected .ply, .obj, .off, .glb or .gltf)")
     d = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(prefix=".meshmark-stego-", suffix=ext, dir=d)
     os.close(fd)
@@ -87,6 +89,31 @@ def write_verified(path: str, mesh, V: np.ndarray, precision: str, check) -> Non
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def _write_verified_gltf(path: str, info, V: np.ndarray, precision: str, check) -> None:
+    """write_verified for glTF: the asset the input was read from (``info``, its GltfInfo) with the
+    marked positions, written first into a temporary folder beside ``path`` and read back there."""
+    import shutil
+    from ..gltf import plan_write, write_positions
+    from ..io import read_mesh
+
+    if info is None:
+        raise MeshError("stego into a glTF needs a glTF input (the marked positions are written back into the asset)")
+    if precision != "float32":
+        raise MeshError(f"glTF stores positions as float32: use --precision float32 (got {precision})")
+    d = tempfile.mkdtemp(prefix=".meshmark-stego-", dir=os.path.dirname(os.path.abspath(path)))
+    try:
+        tmp = os.path.join(d, os.path.basename(path))
+        for p, data in plan_write(info, V, tmp):
+            with open(p, "wb") as f:
+                f.write(data)
+        back = read_mesh(tmp)
+        if back.V.shape != V.shape or not np.array_equal(back.V, V) or not check(back):
+            raise MeshError("the message does not come back from the written asset; nothing was written")
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+    write_positions(info, V, path)
 
 
 @click.group("stego")
@@ -120,7 +147,7 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
     else:
         payload = message.encode("utf-8")
     k = _key(key, key_file)
-    mesh = read_mesh(inp)
+    mesh, fmt = read_mesh(inp, return_info=True)
     kw = dict(tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=precision, levels=level)
     res = embed(mesh, payload, k, **kw)
 
@@ -128,7 +155,7 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
         r = extract(back, k, **kw)
         return r.found and r.message == payload
 
-    write_verified(out, mesh, res.V, precision, check)
+    write_verified(out, mesh, res.V, precision, check, source=fmt.get("gltf"))
     from ..metrics import normal_degradation
     deg = float(normal_degradation(mesh, res.V, degrees=True))
     d = {"input": inp, "output": out, "message_bytes": len(payload), "precision": precision,
