@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import glob
 import hashlib
-import inspect
 import itertools
 import json
 import math
@@ -212,10 +211,8 @@ class _Checker:
 
 
 def _attack_kwargs(name):
-    from ..attacks import ATTACKS
-    fn = ATTACKS[name]
-    return {p.name for p in inspect.signature(fn).parameters.values() if p.kind == p.KEYWORD_ONLY} - {
-        "return_transform", "return_permutations", "return_kept"}
+    from ..attacks import parameters
+    return set(parameters(name))
 
 
 def _all_attacks() -> dict:
@@ -545,8 +542,17 @@ def _attacks(ck, entries):
             chain = e["chain"]
             if "name" in e or "params" in e or "grid" in e or "random" in e:
                 ck.fail(path + ("chain",), "a chain entry takes chain = [...] and a label, not name/params/grid")
+            if isinstance(chain, str):  # the chain text of `meshmark attack --chain` (meshmark.attacks.parse_chain)
+                from ..attacks import parse_chain
+                try:
+                    chain = [{"name": n, "params": p} for n, p in parse_chain(chain)]
+                except MeshError as err:
+                    ck.fail(path + ("chain",), str(err))
+                if "label" not in e:
+                    e = {**e, "label": e["chain"]}
             if not isinstance(chain, list) or not chain:
-                ck.fail(path + ("chain",), "chain must be a non-empty list of {name = ..., params = {...}}")
+                ck.fail(path + ("chain",), "chain must be a chain text (\"bend:30,noise:0.001\") or a non-empty list of "
+                                           "{name = ..., params = {...}}")
             steps = []
             for j, st in enumerate(chain):
                 sp = path + ("chain", j)
