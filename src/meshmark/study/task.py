@@ -11,6 +11,7 @@ failure (``status = "error"``), retried once by the engine.
 """
 from __future__ import annotations
 
+import inspect
 import json
 import os
 import socket
@@ -129,7 +130,9 @@ class Worker:
                 m = hit.meta
                 return Marked(V=hit.mesh.V, bits=np.asarray(m["bits"], np.int64), capacity=int(m["capacity"]),
                               carried=m.get("carried"), info=dict(m.get("info", {})))
-            r = kind.embed(mesh, kind.full(mv.params), seed, sp)
+            takes_store = "store" in inspect.signature(kind.embed).parameters  # kinds that keep work of their own
+            r = (kind.embed(mesh, kind.full(mv.params), seed, sp, store=self.store) if takes_store else
+                 kind.embed(mesh, kind.full(mv.params), seed, sp))
             if ek is not None:
                 self.store.put(ek, mesh.with_vertices(r.V), bits=[int(b) for b in r.bits], capacity=int(r.capacity),
                                carried=r.carried, info=r.info, method=mv.name, params=mv.params, seed=seed,
