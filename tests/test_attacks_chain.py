@@ -96,7 +96,8 @@ def test_remesh_against_pymeshlab_and_the_area_count(spot):
         rms.append(d["rms"])
     assert rms[0] < 1.5 * rms[1]
     assert 0.8 < out.n_vertices / ref_m.n_vertices < 1.35  # measured 3,463 / 2,879 = 1.20
-    assert 0.8 < np.std(_edge_lengths(out)) / np.std(_edge_lengths(ref_m)) < 1.5
+    # CGAL's edges are at least as even as pymeshlab's (measured std 0.0063 vs 0.0084, 0.13 L vs 0.18 L)
+    assert np.std(_edge_lengths(out)) < 1.2 * np.std(_edge_lengths(ref_m)) and np.std(_edge_lengths(out)) < 0.25 * L
     info = meshmark.mesh_info(out)
     assert info["manifold"] and info["closed"] and info["n_components"] == 1
     # deterministic; a shorter target gives about 4x the triangles at half the length
@@ -178,7 +179,6 @@ def test_cli_bend_remesh_and_chain(tmp_path, spot):
     np.testing.assert_allclose(meshmark.read_mesh(tmp_path / "c.ply").V, A.chain(spot, CHAIN, seed=5).V, rtol=0, atol=0)
     for args, match in [(["--chain", "bend:30,simplfy:0.5"], "chain step 2 'simplfy:0.5'"),
                         (["--chain", "noise:0.1", "--strength", "0.1"], "--chain takes only --seed"),
-                        (["--chain", "noise:0.1", "--type", "noise"], "exactly one of --type"),
                         (["--type", "remesh", "--bits", "3"], "does not take --bits")]:
         r = _cli("attack", src, tmp_path / "x.ply", *args)
         assert r.returncode == 2 and match in r.stderr and "Traceback" not in r.stderr, r.stderr
