@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import argparse
 import csv
-import json
 import pathlib
+import re
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -133,11 +133,12 @@ def markdown(rows: list, order: list) -> str:
     lines += ["", f"Cells: percent of the trials (trials). {n_rows} tasks on {len(meshes)} meshes, seeds "
                   f"{', '.join(map(str, seeds))}; {len(excl)} left out (mesh_error)" + (":" if excl else ".")]
     why: dict = {}
-    for r in excl:
-        msg = (r.get("error") or "").split(";")[0].split(":")[0][:80]
-        why[(r["method"].split()[0], msg)] = why.get((r["method"].split()[0], msg), 0) + 1
-    for (m, msg), n in sorted(why.items(), key=lambda x: -x[1])[:8]:
-        lines.append(f"* {n} x {m}: {msg}")
+    for r in excl:  # grouped by method and message (numbers as N), with the meshes
+        msg = re.sub(r"\d+", "N", (r.get("error") or "").split(";")[0].split(" (")[0])[:90]
+        n, where = why.get((r["method"], msg), (0, set()))
+        why[(r["method"], msg)] = (n + 1, where | {r["mesh"].split("/")[-1]})
+    for (m, msg), (n, where) in sorted(why.items(), key=lambda x: (-x[1][0], x[0])):
+        lines.append(f"* {n} x {m}: {msg} ({', '.join(sorted(where))})")
     return "\n".join(lines)
 
 
