@@ -3,6 +3,7 @@
     meshmark study run examples/studies/robustness.toml --out out/robustness    # the full study
     .venv/bin/python examples/robustness_table.py --results out/robustness      # table, plot, verdicts
     .venv/bin/python examples/robustness_table.py --quick                       # run + table, 1 mesh
+    .venv/bin/python examples/robustness_table.py --results out/robustness --docs   # into docs/attacks.md
 
 Reads the study's results (Parquet under RESULTS/results, or a CSV of them) and writes:
 
@@ -235,12 +236,26 @@ def report(results, raw: dict, out_dir) -> dict:
     return {"markdown": md, "rows": len(rows)}
 
 
+BEGIN, END = "<!-- robustness table: begin (examples/robustness_table.py --docs) -->", "<!-- robustness table: end -->"
+
+
+def update_docs(md: str, path=ROOT / "docs" / "attacks.md") -> None:
+    """Replace the generated part of docs/attacks.md (between the BEGIN and END markers) by ``md``."""
+    text = pathlib.Path(path).read_text()
+    if BEGIN not in text or END not in text:
+        raise SystemExit(f"{path}: no {BEGIN!r} ... {END!r} markers")
+    head, rest = text.split(BEGIN, 1)
+    tail = rest.split(END, 1)[1]
+    pathlib.Path(path).write_text(head + BEGIN + "\n" + md.rstrip() + "\n" + END + tail)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--results", default=None, help="study results folder (or a CSV of its rows)")
     ap.add_argument("--quick", action="store_true", help="run the quick mode into --results (default out/robustness-quick)")
     ap.add_argument("--run", action="store_true", help="run (or resume) the full spec into --results first")
     ap.add_argument("--workers", type=int, default=None)
+    ap.add_argument("--docs", action="store_true", help="also write the table and verdicts into docs/attacks.md")
     ap.add_argument("--out", default=None, help="folder for robustness.md / .csv / .png (default: the results folder)")
     a = ap.parse_args(argv)
     raw = quick_raw() if a.quick else load_raw()
@@ -248,6 +263,8 @@ def main(argv=None):
     if a.quick or a.run:
         run_study(raw, results, workers=0 if a.quick and a.workers is None else a.workers)
     d = report(results, raw, a.out or (results if not str(results).endswith(".csv") else pathlib.Path(results).parent))
+    if a.docs:
+        update_docs(d["markdown"])
     sys.stdout.write(d["markdown"])
     return d
 
