@@ -210,14 +210,17 @@ def plot(rows: list, order: list, path):
             if c is not None and c["n"]:
                 Z[i, j] = 100 * c["k"] / c["n"]
     fig, ax = plt.subplots(figsize=(1.0 + 0.45 * len(cols), 1.5 + 0.35 * len(order)))
-    im = ax.imshow(Z, cmap="RdYlGn", vmin=0, vmax=100, aspect="auto")
+    good = Z.copy()  # colour by how good a cell is: a wrong copy named is bad
+    wrong = [j for j, ((m, w), _) in enumerate(cols) if w == "wrong"]
+    good[:, wrong] = 100 - good[:, wrong]
+    im = ax.imshow(good, cmap="RdYlGn", vmin=0, vmax=100, aspect="auto")
     ax.set_xticks(range(len(cols)), [h for _, h in cols], rotation=60, ha="right", fontsize=7)
     ax.set_yticks(range(len(order)), order, fontsize=7)
     for i in range(len(order)):
         for j in range(len(cols)):
             if not np.isnan(Z[i, j]):
                 ax.text(j, i, f"{Z[i, j]:.0f}", ha="center", va="center", fontsize=6)
-    fig.colorbar(im, ax=ax, label="% of trials (wrong copy: lower is better)")
+    fig.colorbar(im, ax=ax, label="% of trials (numbers); colour: green = good (wrong copy: 0 % is green)")
     ax.set_title("robustness (examples/studies/robustness.toml)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
