@@ -228,16 +228,20 @@ def test_failed_task_is_recorded_retried_once_and_reported(tmp_path):
 def test_bend_is_the_laplacian_tests_skinning():
     """blender_bend is tested with bpy in blender_tests/test_study_blender.py."""
     from test_laplacian_watermark import bend as reference_bend, jittered_arm
-    from meshmark.study import deform
+    from meshmark.attacks import bend
     from meshmark.study.task import builtin_mesh
     arm = builtin_mesh("arm")
     assert np.array_equal(arm.V, jittered_arm().V)
     for deg in (0, 30, 60):
-        out = deform.bend(arm, degrees=deg, joint=1.0, width=0.2, absolute=True)
+        out = bend(arm, degrees=deg, joint=1.0, width=0.2, absolute=True)
         assert np.array_equal(out.V, reference_bend(arm.V, deg))
-    # relative joint: the middle of the z extent with a tenth of it as the blend width
+    # relative joint: the middle of the z extent with a tenth of it as the blend width, the joint
+    # line through the middle of the y extent (0 once the arm is centred in y)
     lo, hi = arm.V[:, 2].min(), arm.V[:, 2].max()
-    assert np.allclose(deform.bend(arm, degrees=45).V, reference_bend(arm.V, 45, (lo + hi) / 2, 0.1 * (hi - lo)), rtol=0, atol=1e-12)
+    ymid = (arm.V[:, 1].min() + arm.V[:, 1].max()) / 2
+    Vc = arm.V - [0, ymid, 0]
+    assert np.allclose(bend(arm.with_vertices(Vc), degrees=45).V, reference_bend(Vc, 45, (lo + hi) / 2, 0.1 * (hi - lo)),
+                       rtol=0, atol=1e-12)
 
 
 def test_status_and_plot_commands(reference_run, tmp_path):

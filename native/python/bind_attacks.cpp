@@ -11,6 +11,7 @@
 #include "meshmark/mean_centroid_distance.h"
 #include "meshmark/permute_mesh.h"
 #include "meshmark/quantize.h"
+#include "meshmark/remesh.h"
 #include "meshmark/similarity_transform.h"
 #include "meshmark/simplify.h"
 #include "meshmark/subdivide.h"
@@ -117,6 +118,15 @@ void bind_attacks(py::module_& m) {
           }
           return py::make_tuple(std::move(r.V), std::move(r.T));
         }, py::arg("V"), py::arg("T"), py::arg("fraction"));
+
+  m.def("remesh", [](VRef V, TRef T, double relative_length, int iterations) {
+          RemeshedMesh r;
+          {
+            py::gil_scoped_release release;
+            r = remesh(V, T, relative_length, iterations);
+          }
+          return py::make_tuple(std::move(r.V), std::move(r.T), r.target_edge_length);
+        }, py::arg("V"), py::arg("T"), py::arg("relative_length"), py::arg("iterations"));
 
   m.def("midpoint_subdivide", [](VRef V, TRef T) {
           SubdividedMesh r;

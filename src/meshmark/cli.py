@@ -338,93 +338,7 @@ def capacity(inp, method, as_json, params_mode, **method_params):
                       f"parameters ({thesis_cap} carrier bits)")
 
 
-# --- attack / compare ---------------------------------------------------------------------------------
-
-# CLI option -> keyword of the attack functions (meshmark.attacks); an option given to an attack that
-# does not take it is an error, not silently ignored.
-_ATTACK_OPTIONS = {
-    "strength": "strength", "kind": "kind", "lam": "lam", "iterations": "iterations", "weights": "weights",
-    "bits": "bits", "word": "word", "fraction": "fraction", "scheme": "scheme", "levels": "levels",
-    "axis": "axis", "angle": "angle", "normal": "normal", "offset": "offset", "factor": "factor",
-    "fmt": "format", "seed": "seed",
-}
-_OPTION_NAMES = {"lam": "--lambda", "fmt": "--format"}
-
-
-def _vec(text, name):
-    if text is None:
-        return None
-    try:
-        parts = [float(x) for x in text.replace(",", " ").split()]
-    except ValueError:
-        parts = []
-    if len(parts) != 3:
-        raise MeshError(f"--{name} needs 3 numbers like 1,0,0, got {text!r}")
-    return parts
-
-
-@main.command()
-@click.argument("mesh_in", metavar="IN")
-@click.argument("mesh_out", metavar="OUT")
-@click.option("--type", "name", required=True, metavar="NAME",
-              help="similarity, rotate, translate, scale, reorder, noise, smooth, quantize, dither, simplify, "
-                   "subdivide, crop, float32, roundtrip.")
-@click.option("--strength", type=float, help="noise: amplitude as a fraction of the mean vertex-centroid distance (0.0025 = 0.25 %).")
-@click.option("--kind", help="noise: uniform (default), gaussian, normal, tangent.")
-@click.option("--lambda", "lam", type=float, help="smooth: factor (default 0.02).")
-@click.option("--iterations", type=int, help="smooth: iterations (default 10).")
-@click.option("--weights", help="smooth: uniform (default) or cotangent.")
-@click.option("--bits", type=int, help="quantize: bits per coordinate; dither: bits kept.")
-@click.option("--word", help="dither: fixed32 (default) or float64.")
-@click.option("--fraction", type=float, help="simplify: fraction of faces kept; crop: fraction of the extent removed.")
-@click.option("--scheme", help="subdivide: loop (default) or midpoint.")
-@click.option("--levels", type=int, help="subdivide: levels (default 1).")
-@click.option("--axis", help="rotate: axis as x,y,z (default 0,0,1).")
-@click.option("--angle", type=float, help="rotate: degrees.")
-@click.option("--normal", help="crop: plane normal as x,y,z (default 1,0,0).")
-@click.option("--offset", help="translate: x,y,z.")
-@click.option("--factor", type=float, help="scale: factor.")
-@click.option("--format", "fmt", help="roundtrip: obj (6 decimals, default), ply (float), stl.")
-@click.option("--seed", type=int, help="random attacks: seed (default 0).")
-@click.option("--json", "as_json", is_flag=True, help="Print a summary (with the distortion) as JSON.")
-def attack(mesh_in, mesh_out, name, as_json, **opts):
-    """Apply an attack to IN and write the result to OUT (format from the extension, double precision).
-
-    \b
-    Examples:
-      meshmark attack in.obj out.ply --type noise --strength 0.0025 --seed 1
-      meshmark attack in.obj out.ply --type smooth --lambda 0.02 --iterations 30
-      meshmark attack in.obj out.ply --type quantize --bits 9
-      meshmark attack in.obj out.ply --type simplify --fraction 0.5
-      meshmark attack in.obj out.ply --type crop --fraction 0.1
-    """
-    import numpy as np
-    from .atomic import write_all
-    from .attacks import ATTACKS, attack as run_attack
-    from .io import mesh_outputs, read_mesh
-    from .metrics import compare
-
-    if name not in ATTACKS:
-        raise MeshError(f"unknown attack type {name!r} (expected one of {', '.join(sorted(ATTACKS))})")
-    for key in ("axis", "normal", "offset"):
-        opts[key] = _vec(opts[key], key)
-    params = {_ATTACK_OPTIONS[k]: v for k, v in opts.items() if v is not None}
-    import inspect
-    accepted = {p.name for p in inspect.signature(ATTACKS[name]).parameters.values() if p.kind == p.KEYWORD_ONLY}
-    bad = [_OPTION_NAMES.get(k, "--" + k) for k, v in opts.items() if v is not None and _ATTACK_OPTIONS[k] not in accepted]
-    if bad:
-        raise MeshError(f"--type {name} does not take {', '.join(bad)}")
-    m, fmt = read_mesh(mesh_in, return_info=True)
-    out = run_attack(m, name=name, **params)
-    same = np.array_equal(out.face_indices, m.face_indices) and np.array_equal(out.face_offsets, m.face_offsets)
-    write_all(mesh_outputs(mesh_out, out.V, m if same else out, fmt if same else None), what=["attacked mesh"])
-    d = {"in": mesh_in, "out": mesh_out, "type": name, "params": params,
-         "n_vertices": out.n_vertices, "n_faces": out.n_faces}
-    text = f"{name}: wrote {mesh_out} ({out.n_vertices} vertices, {out.n_faces} faces)"
-    if as_json:
-        d["distortion"] = compare(m, out)
-    _emit(d, as_json, text)
-
+# --- attack (meshmark/cli_attack.py) / compare ---------------------------------------------------------
 
 def _format_compare(a, b, d):
     f = lambda x, spec=".6g": "-" if x is None else format(x, spec)
@@ -504,6 +418,8 @@ from .analysis.cli import analyze; main.add_command(analyze)  # noqa: E402,E702 
 from .steganalysis.cli import add_commands as _steganalysis_commands; _steganalysis_commands(steganalysis)  # noqa: E402,E702
 main.add_command(__import__("meshmark.study.cli", fromlist=["study"]).study)
 [main.add_command(_c) for _c in __import__("meshmark.cli_tracing", fromlist=["COMMANDS"]).COMMANDS]  # issue, trace
+
+main.add_command(__import__("meshmark.cli_attack", fromlist=["attack"]).attack)  # attack
 
 if __name__ == "__main__":  # pragma: no cover
     main()

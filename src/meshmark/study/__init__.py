@@ -15,7 +15,8 @@ skips finished keys. ``meshmark study run|status|plot`` is the command line.
   ``cho-variance-bits``, ``radial-bits``);
 * :mod:`.store` — the content-addressed store of marked meshes (:class:`Store`);
 * :mod:`.plot` — standard figures and the CSV summary;
-* :mod:`.deform` — deformation attacks (bend; Blender's bend when bpy is present).
+* :mod:`.deform` — Blender's bend when bpy is present (the skinning bend is :func:`meshmark.attacks.bend`);
+* :mod:`.trace_kind` — the copy-tracing method kind ``trace`` and its ``tracing`` measurement.
 """
 import importlib
 

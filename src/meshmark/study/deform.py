@@ -1,10 +1,6 @@
-"""Deformation attacks for studies, beside :data:`meshmark.attacks.ATTACKS`.
+"""Deformation attacks for studies, beside :data:`meshmark.attacks.ATTACKS` (which holds ``bend``,
+the two-bone linear blend skinning bend, :func:`meshmark.attacks.bend`).
 
-* ``bend``: two-bone linear blend skinning about the x axis (numpy, vectorised): vertices below
-  ``joint - width`` (along z) stay, those above ``joint + width`` rotate by ``degrees`` about the
-  joint, smoothstep weights between. ``joint`` and ``width`` are fractions of the z extent of the
-  mesh (default 0.5 and 0.1), or absolute z values with ``absolute = true`` (the arm of
-  ``tests/test_laplacian_watermark.py`` bends at z = 1 with width 0.2). Deterministic, no seed.
 * ``blender_bend`` (only when ``bpy`` imports): Blender's Simple Deform modifier in Bend mode by
   ``degrees`` about ``axis`` (X, Y or Z), evaluated through the depsgraph, faces unchanged.
 """
@@ -17,28 +13,6 @@ import numpy as np
 
 from .._core import MeshError
 from ..mesh import Mesh, as_mesh
-
-
-def bend(V, F=None, *, degrees: float = 30.0, joint: float = 0.5, width: float = 0.1, absolute: bool = False) -> Mesh:
-    m = as_mesh(V, F)
-    deg = float(degrees)
-    if not math.isfinite(deg):
-        raise MeshError(f"bend degrees must be finite, got {degrees!r}")
-    X = m.V
-    if absolute:
-        j, w = float(joint), float(width)
-    else:
-        lo, hi = float(X[:, 2].min()), float(X[:, 2].max())
-        j, w = lo + float(joint) * (hi - lo), float(width) * (hi - lo)
-    if not w > 0:
-        raise MeshError(f"bend width must be > 0, got {width!r}")
-    t = np.clip((X[:, 2] - (j - w)) / (2 * w), 0, 1)
-    s = t * t * (3 - 2 * t)
-    a = np.radians(deg)
-    R = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
-    c = np.array([0, 0, j])
-    V2 = (1 - s)[:, None] * X + s[:, None] * ((X - c) @ R.T + c)
-    return Mesh.from_polygons(V2, m.face_indices, m.face_offsets, validate=False)
 
 
 def blender_bend(V, F=None, *, degrees: float = 30.0, axis: str = "Z") -> Mesh:  # pragma: no cover - needs bpy
@@ -66,7 +40,7 @@ def blender_bend(V, F=None, *, degrees: float = 30.0, axis: str = "Z") -> Mesh: 
     return Mesh.from_polygons(out.reshape(-1, 3), m.face_indices, m.face_offsets, validate=False)
 
 
-DEFORMATIONS = {"bend": (bend, {"degrees", "joint", "width", "absolute"})}
+DEFORMATIONS: dict = {}
 if importlib.util.find_spec("bpy") is not None:  # pragma: no cover - needs bpy
     DEFORMATIONS["blender_bend"] = (blender_bend, {"degrees", "axis"})
 

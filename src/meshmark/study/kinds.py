@@ -52,7 +52,8 @@ from .._core import MeshError
 
 #: modules imported (by the driver before checking a spec, and by every worker) for every study:
 #: put the name of a module that registers method kinds or measurements at import time here
-PLUGIN_MODULES: list = []
+#: (built in: the copy-tracing kind ``trace`` and its ``tracing`` measurement)
+PLUGIN_MODULES: list = ["meshmark.study.trace_kind"]
 
 
 @dataclass
@@ -120,6 +121,8 @@ def register_method_kind(name: str, *, defaults: dict, embed: Callable, extract:
     ``defaults``: every parameter the kind takes and its default (a spec's ``params`` / ``grid`` /
     ``random`` may set only these; they reach ``embed`` and ``extract`` merged over the defaults).
     ``embed(mesh, params, seed, spec) -> Marked`` and ``extract(attacked_mesh, marked, params) -> Read``
+    (an ``embed`` that also takes ``store=`` gets the study's :class:`~meshmark.study.Store` or None,
+    to keep expensive work of its own, as the ``trace`` kind keeps its issued copies)
     must be pure functions of their arguments (the task key is a hash of mesh, name, params, seed and
     attack: whatever runs a task must get the same row). Raise :class:`~meshmark.MeshError` when the
     mesh cannot carry the mark (the task's status becomes ``mesh_error``, not retried).

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import glob
 import hashlib
-import inspect
 import itertools
 import json
 import math
@@ -31,7 +30,7 @@ except ImportError:  # pragma: no cover - Python 3.10
 MESH_SUFFIXES = (".obj", ".off", ".ply", ".stl")
 TOP_KEYS = {"study", "meshes", "methods", "attacks", "measurements"}
 STUDY_KEYS = {"name", "seeds", "payload", "payload_bits", "key", "store", "weld", "distance_seed", "distance_samples", "chunk_size", "description", "plugins"}
-MESH_KEYS = {"paths", "root", "exclude", "compact", "limit", "recursive"}
+MESH_KEYS = {"paths", "root", "exclude", "compact", "limit", "recursive", "min_vertices"}
 VARIANT_KEYS = {"name", "params", "grid", "random", "draws", "label", "level", "undo", "chain"}
 CHAIN_KEYS = {"name", "params"}
 VECTOR_PARAMS = {"axis", "center", "normal", "offset", "scale_range"}
@@ -212,10 +211,8 @@ class _Checker:
 
 
 def _attack_kwargs(name):
-    from ..attacks import ATTACKS
-    fn = ATTACKS[name]
-    return {p.name for p in inspect.signature(fn).parameters.values() if p.kind == p.KEYWORD_ONLY} - {
-        "return_transform", "return_permutations", "return_kept"}
+    from ..attacks import parameters
+    return set(parameters(name))
 
 
 def _all_attacks() -> dict:
@@ -482,6 +479,11 @@ def _meshes(ck, m, base):
             label = os.path.relpath(os.path.abspath(h), str(root))
         labels.add(label)
         out.append((label, a))
+    if "min_vertices" in m:
+        mv = m["min_vertices"]
+        if isinstance(mv, bool) or not isinstance(mv, int) or mv < 0:
+            ck.fail(path + ("min_vertices",), f"min_vertices must be an integer >= 0, got {mv!r}")
+        out = [(label, a) for label, a in out if welded_vertices(a) >= mv]
     if "limit" in m:
         out = out[: int(m["limit"])]
     if not out:
@@ -490,6 +492,20 @@ def _meshes(ck, m, base):
     if not isinstance(compact, bool):
         ck.fail(path + ("compact",), f"compact must be true or false, got {compact!r}")
     return out, compact
+
+
+def welded_vertices(path: str) -> int:
+    """Vertices the faces use once vertices at equal positions are merged (what the methods see with
+    ``weld = true``): the size a spec's ``meshes.min_vertices`` compares. Unreadable files count 0."""
+    from ..topology import weld_vertices
+    from .task import load_mesh
+    try:
+        m = weld_vertices(load_mesh(path)).mesh
+    except MeshError:
+        return 0
+    used = np.zeros(m.n_vertices, bool)
+    used[m.face_indices] = True
+    return int(used.sum())
 
 
 def _methods(ck, entries):
@@ -545,8 +561,17 @@ def _attacks(ck, entries):
             chain = e["chain"]
             if "name" in e or "params" in e or "grid" in e or "random" in e:
                 ck.fail(path + ("chain",), "a chain entry takes chain = [...] and a label, not name/params/grid")
+            if isinstance(chain, str):  # the chain text of `meshmark attack --chain` (meshmark.attacks.parse_chain)
+                from ..attacks import parse_chain
+                try:
+                    chain = [{"name": n, "params": p} for n, p in parse_chain(chain)]
+                except MeshError as err:
+                    ck.fail(path + ("chain",), str(err))
+                if "label" not in e:
+                    e = {**e, "label": e["chain"]}
             if not isinstance(chain, list) or not chain:
-                ck.fail(path + ("chain",), "chain must be a non-empty list of {name = ..., params = {...}}")
+                ck.fail(path + ("chain",), "chain must be a chain text (\"bend:30,noise:0.001\") or a non-empty list of "
+                                           "{name = ..., params = {...}}")
             steps = []
             for j, st in enumerate(chain):
                 sp = path + ("chain", j)

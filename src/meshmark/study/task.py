@@ -66,11 +66,6 @@ def load_mesh(path: str, data: bytes | None = None, do_compact: bool = False) ->
     return compact(m) if do_compact else m
 
 
-def _takes_seed(name: str) -> bool:
-    from ..attacks import ATTACKS
-    return "seed" in inspect.signature(ATTACKS[name]).parameters
-
-
 def apply_attack(variant, mesh: Mesh, seed: int):
     """(attacked mesh, mesh to measure): with ``undo`` the similarity / rotation / reordering is undone
     for the distortion measures (what remains is the round-off of the round trip)."""
@@ -89,12 +84,10 @@ def apply_attack(variant, mesh: Mesh, seed: int):
             p = {"seed": seed, **p}
             out, vp, fp = A.reorder(mesh, return_permutations=True, **p)
             return out, Mesh.from_polygons(out.V[np.argsort(vp)], mesh.face_indices, mesh.face_offsets, validate=False)
-    for j, (name, p) in enumerate(variant.chain):
+    from ..attacks.chain import step_seed
+    for j, (name, p) in enumerate(variant.chain):  # the rule of meshmark.attacks.chain: step j gets seed + j
         if name in A.ATTACKS:
-            kw = dict(p)
-            if "seed" not in kw and _takes_seed(name):
-                kw["seed"] = seed + j
-            m = A.ATTACKS[name](m, **kw)
+            m = A.ATTACKS[name](m, **step_seed(name, p, seed, j))
         else:
             m = deform.apply(name, m, p, seed + j)
     return m, m
@@ -137,7 +130,9 @@ class Worker:
                 m = hit.meta
                 return Marked(V=hit.mesh.V, bits=np.asarray(m["bits"], np.int64), capacity=int(m["capacity"]),
                               carried=m.get("carried"), info=dict(m.get("info", {})))
-            r = kind.embed(mesh, kind.full(mv.params), seed, sp)
+            takes_store = "store" in inspect.signature(kind.embed).parameters  # kinds that keep work of their own
+            r = (kind.embed(mesh, kind.full(mv.params), seed, sp, store=self.store) if takes_store else
+                 kind.embed(mesh, kind.full(mv.params), seed, sp))
             if ek is not None:
                 self.store.put(ek, mesh.with_vertices(r.V), bits=[int(b) for b in r.bits], capacity=int(r.capacity),
                                carried=r.carried, info=r.info, method=mv.name, params=mv.params, seed=seed,

@@ -1,32 +1,4 @@
-"""Attacks: the operations a watermark must survive (or that a steganalyzer must not be fooled by).
-
-Every attack takes a :class:`~meshmark.Mesh` or ``(V, F)`` and returns a new :class:`~meshmark.Mesh`;
-the input is never modified. The per-element work is native (``meshmark._core``). Units: positions
-in model units, angles in degrees, strengths as fractions (``strength=0.0025`` is the thesis'
-A = 0.25 %). See ``docs/attacks.md`` for the definitions, the choices made where the thesis is vague,
-and a table of the distortion each attack causes on the shared meshes.
-
-Randomness: every random attack takes ``seed`` (an integer >= 0) and is deterministic: the native
-core draws from ``std::mt19937_64(seed)`` with meshmark's own uniform/normal transforms (not the
-standard library's distributions), so the same seed gives the same mesh on every machine.
-
-Polygons: attacks defined on positions or on the edge graph keep the faces as stored (quads stay
-quads): similarity, reorder, noise, smoothing, quantization, dithering, crop, float32 and file round
-trips. Vertex normals (normal/tangent noise) and cotangent weights are computed on the deterministic
-triangulation, but the polygons are kept. Simplification and subdivision triangulate first and return
-triangles.
-
-Groups (the ``--type`` names of ``meshmark attack`` are the keys of :data:`ATTACKS`):
-
-* similarity: :func:`rotate`, :func:`translate`, :func:`scale`, :func:`similarity` (random), :func:`random_rotation`;
-* reordering: :func:`reorder` (vertices and faces, faces re-indexed consistently);
-* noise: :func:`noise` with ``kind`` uniform (eq. 6.3.12), gaussian, normal, tangent;
-* smoothing: :func:`smooth` (uniform Laplacian, or cotangent weights);
-* quantization: :func:`quantize` (2^b levels over the bounding box), :func:`dither` and the reusable
-  :func:`dithered_quantize` / :func:`dither_bits` of ch. 3-4;
-* connectivity: :func:`simplify` (CGAL edge collapse), :func:`subdivide` (midpoint, Loop), :func:`crop`;
-* storage: :func:`float32_cast`, :func:`file_roundtrip` (OBJ with 6 decimals, float PLY, STL).
-"""
+"""The attacks on positions, order and connectivity (see :mod:`meshmark.attacks` for the overview)."""
 from __future__ import annotations
 
 import math
@@ -35,15 +7,14 @@ import tempfile
 
 import numpy as np
 
-from . import _core
-from ._core import MeshError
-from .mesh import Mesh, _as_vertices, as_mesh
+from .. import _core
+from .._core import MeshError
+from ..mesh import Mesh, _as_vertices, as_mesh
 
 __all__ = [
     "rotate", "translate", "scale", "similarity", "random_rotation", "reorder", "noise", "smooth",
     "quantize", "dither", "dithered_quantize", "dither_bits", "simplify", "subdivide", "crop",
-    "float32_cast", "file_roundtrip", "mean_centroid_distance", "vertex_normals", "attack", "ATTACKS",
-    "NOISE_KINDS",
+    "float32_cast", "file_roundtrip", "mean_centroid_distance", "vertex_normals", "NOISE_KINDS",
 ]
 
 NOISE_KINDS = ("uniform", "gaussian", "normal", "tangent")
@@ -346,56 +317,28 @@ _ROUNDTRIP = {
 }
 
 
-def file_roundtrip(V, F=None, *, format: str = "obj") -> Mesh:
+def file_roundtrip(V, F=None, *, format: str = "obj", decimals: int | None = None) -> Mesh:
     """Write the mesh with :func:`meshmark.write_mesh` and read it back (a storage attack).
 
-    ``"obj"``: 6 decimals; ``"ply"``: binary float32; ``"stl"``: binary (float32, triangles only,
-    corners welded on equal coordinates: vertex order and unreferenced vertices may change).
+    ``"obj"``: fixed notation with ``decimals`` decimals (default 6, as OBJ exporters write: "OBJ at
+    6 digits"); ``"ply"``: binary float32; ``"stl"``: binary (float32, triangles only, corners welded
+    on equal coordinates: vertex order and unreferenced vertices may change). ``decimals`` (0..17) is
+    for OBJ only.
     """
-    from .io import read_mesh, write_mesh
+    from ..io import read_mesh, write_mesh
 
     m = as_mesh(V, F)
     fmt = str(format).lower()
     if fmt not in _ROUNDTRIP:
         raise MeshError(f"unknown round-trip format {format!r} (expected obj, ply or stl)")
+    opts = dict(_ROUNDTRIP[fmt])
+    if decimals is not None:
+        if fmt != "obj":
+            raise MeshError(f"round-trip decimals are for obj, not {fmt} (binary float32)")
+        if isinstance(decimals, bool) or int(decimals) != decimals or not 0 <= decimals <= 17:
+            raise MeshError(f"round-trip decimals must be an integer in 0..17, got {decimals!r}")
+        opts["decimals"] = int(decimals)
     with tempfile.TemporaryDirectory(prefix="meshmark-") as d:
         path = os.path.join(d, "mesh." + fmt)
-        write_mesh(path, m, **_ROUNDTRIP[fmt])
+        write_mesh(path, m, **opts)
         return read_mesh(path)
-
-
-# --- the registry behind `meshmark attack --type NAME` ----------------------------------------------
-
-ATTACKS = {
-    "similarity": similarity,
-    "rotate": rotate,
-    "translate": translate,
-    "scale": scale,
-    "reorder": reorder,
-    "noise": noise,
-    "smooth": smooth,
-    "quantize": quantize,
-    "dither": dither,
-    "simplify": simplify,
-    "subdivide": subdivide,
-    "crop": crop,
-    "float32": float32_cast,
-    "roundtrip": file_roundtrip,
-}
-
-
-def attack(V, F=None, *, name: str, **params) -> Mesh:
-    """Apply the attack ``name`` (a key of :data:`ATTACKS`) with keyword ``params``.
-
-    MeshError for an unknown name or a parameter the attack does not take.
-    """
-    fn = ATTACKS.get(name)
-    if fn is None:
-        raise MeshError(f"unknown attack {name!r} (expected one of {', '.join(sorted(ATTACKS))})")
-    import inspect
-
-    accepted = {p.name for p in inspect.signature(fn).parameters.values() if p.kind == p.KEYWORD_ONLY}
-    bad = sorted(set(params) - accepted)
-    if bad:
-        raise MeshError(f"attack {name!r} does not take {', '.join(bad)} (it takes {', '.join(sorted(accepted)) or 'no parameters'})")
-    return fn(V, F, **params)

@@ -1,0 +1,130 @@
+"""``meshmark attack``: one attack (``--type``) or a chain (``--chain``) of meshmark.attacks."""
+from __future__ import annotations
+
+import json
+
+import click
+
+from ._core import MeshError
+
+
+def _emit(result: dict, as_json: bool, text: str) -> None:
+    text = json.dumps(result, indent=2, sort_keys=False) if as_json else str(text)
+    click.echo(text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace"))
+
+
+# CLI option -> keyword of the attack functions (meshmark.attacks); an option given to an attack that
+# does not take it is an error, not silently ignored.
+_ATTACK_OPTIONS = {
+    "strength": "strength", "kind": "kind", "lam": "lam", "iterations": "iterations", "weights": "weights",
+    "bits": "bits", "word": "word", "fraction": "fraction", "scheme": "scheme", "levels": "levels",
+    "axis": "axis", "angle": "angle", "normal": "normal", "offset": "offset", "factor": "factor",
+    "fmt": "format", "decimals": "decimals", "degrees": "degrees", "joint": "joint", "width": "width",
+    "along": "along", "absolute": "absolute", "edge_length": "edge_length", "seed": "seed",
+}
+_OPTION_NAMES = {"lam": "--lambda", "fmt": "--format", "edge_length": "--edge-length"}
+
+
+def _vec(text, name):
+    if text is None:
+        return None
+    try:
+        parts = [float(x) for x in text.replace(",", " ").split()]
+    except ValueError:
+        parts = []
+    if len(parts) != 3:
+        raise MeshError(f"--{name} needs 3 numbers like 1,0,0, got {text!r}")
+    return parts
+
+
+@click.command()
+@click.argument("mesh_in", metavar="IN")
+@click.argument("mesh_out", metavar="OUT")
+@click.option("--type", "name", default=None, metavar="NAME",
+              help="similarity, rotate, translate, scale, reorder, noise, smooth, quantize, dither, simplify, "
+                   "subdivide, remesh, crop, bend, float32, roundtrip.")
+@click.option("--chain", "chain_text", default=None, metavar="STEPS",
+              help="Several attacks in order instead of --type, e.g. \"bend:30,simplify:0.5,noise:0.001,similarity,"
+                   "reorder,roundtrip:obj\" (NAME[:VALUE][:KEY=VALUE...], comma-separated; docs/attacks.md). "
+                   "Random steps get --seed + their position (from 0).")
+@click.option("--strength", type=float, help="noise: amplitude as a fraction of the mean vertex-centroid distance (0.0025 = 0.25 %).")
+@click.option("--kind", help="noise: uniform (default), gaussian, normal, tangent.")
+@click.option("--lambda", "lam", type=float, help="smooth: factor (default 0.02).")
+@click.option("--iterations", type=int, help="smooth: iterations (default 10); remesh: rounds (default 3).")
+@click.option("--weights", help="smooth: uniform (default) or cotangent.")
+@click.option("--bits", type=int, help="quantize: bits per coordinate; dither: bits kept.")
+@click.option("--word", help="dither: fixed32 (default) or float64.")
+@click.option("--fraction", type=float, help="simplify: fraction of faces kept; crop: fraction of the extent removed.")
+@click.option("--scheme", help="subdivide: loop (default) or midpoint.")
+@click.option("--levels", type=int, help="subdivide: levels (default 1).")
+@click.option("--edge-length", "edge_length", type=float,
+              help="remesh: target edge length as a multiple of the mean edge length (default 1).")
+@click.option("--degrees", type=float, help="bend: angle in degrees (default 30).")
+@click.option("--joint", type=float, help="bend: joint position, a fraction of the extent along the bone (default 0.5).")
+@click.option("--width", type=float, help="bend: half-width of the blend zone, a fraction of the extent (default 0.1).")
+@click.option("--along", type=click.Choice(["x", "y", "z"]), default=None,
+              help="bend: the bone axis (default z; the bend turns about the next axis: z->x, x->y, y->z).")
+@click.option("--absolute", is_flag=True, default=None, help="bend: --joint and --width in model units, not fractions.")
+@click.option("--axis", help="rotate: axis as x,y,z (default 0,0,1).")
+@click.option("--angle", type=float, help="rotate: degrees.")
+@click.option("--normal", help="crop: plane normal as x,y,z (default 1,0,0).")
+@click.option("--offset", help="translate: x,y,z.")
+@click.option("--factor", type=float, help="scale: factor.")
+@click.option("--format", "fmt", help="roundtrip: obj (6 decimals, default), ply (float), stl.")
+@click.option("--decimals", type=int, help="roundtrip obj: decimals written (default 6).")
+@click.option("--seed", type=int, help="random attacks: seed (default 0).")
+@click.option("--json", "as_json", is_flag=True, help="Print a summary (with the distortion) as JSON.")
+def attack(mesh_in, mesh_out, name, chain_text, as_json, **opts):
+    """Apply an attack (--type) or a chain of attacks (--chain) to IN and write the result to OUT
+    (format from the extension, double precision).
+
+    \b
+    Examples:
+      meshmark attack in.obj out.ply --type noise --strength 0.0025 --seed 1
+      meshmark attack in.obj out.ply --type smooth --lambda 0.02 --iterations 30
+      meshmark attack in.obj out.ply --type quantize --bits 9
+      meshmark attack in.obj out.ply --type simplify --fraction 0.5
+      meshmark attack in.obj out.ply --type remesh --edge-length 1
+      meshmark attack in.obj out.ply --type bend --degrees 60
+      meshmark attack in.obj out.ply --chain "bend:30,simplify:0.5,noise:0.001,similarity,reorder,roundtrip:obj" --seed 2
+    """
+    import numpy as np
+    from .atomic import write_all
+    from .io import mesh_outputs, read_mesh
+    from .attacks import ATTACKS, attack as run_attack, chain as run_chain, parameters, parse_chain
+    from .metrics import compare
+
+    if (name is None) == (chain_text is None):
+        raise MeshError("give exactly one of --type NAME or --chain STEPS")
+    if chain_text is not None:
+        given = [_OPTION_NAMES.get(k, "--" + k) for k, v in opts.items() if v is not None and k != "seed"]
+        if given:
+            raise MeshError(f"--chain takes only --seed; give the other parameters in the steps ({', '.join(given)})")
+        steps = parse_chain(chain_text)  # bad text: exit 2 naming the step, before the mesh is read
+        seed = 0 if opts["seed"] is None else opts["seed"]
+        m, fmt = read_mesh(mesh_in, return_info=True)
+        out = run_chain(m, steps, seed=seed)
+        params = {"chain": chain_text, "seed": seed, "steps": [[n, p] for n, p in steps]}
+        label = "chain"
+    else:
+        if name not in ATTACKS:
+            raise MeshError(f"unknown attack type {name!r} (expected one of {', '.join(sorted(ATTACKS))})")
+        for key in ("axis", "normal", "offset"):
+            opts[key] = _vec(opts[key], key)
+        params = {_ATTACK_OPTIONS[k]: v for k, v in opts.items() if v is not None}
+        accepted = set(parameters(name))
+        bad = [_OPTION_NAMES.get(k, "--" + k) for k, v in opts.items() if v is not None and _ATTACK_OPTIONS[k] not in accepted]
+        if bad:
+            raise MeshError(f"--type {name} does not take {', '.join(bad)}")
+        m, fmt = read_mesh(mesh_in, return_info=True)
+        out = run_attack(m, name=name, **params)
+        label = name
+    # the faces unchanged (glTF: the asset written back with only its positions changed), else a new mesh
+    same = np.array_equal(out.face_indices, m.face_indices) and np.array_equal(out.face_offsets, m.face_offsets)
+    write_all(mesh_outputs(mesh_out, out.V, m if same else out, fmt if same else None), what=["attacked mesh"])
+    d = {"in": mesh_in, "out": mesh_out, "type": label, "params": params,
+         "n_vertices": out.n_vertices, "n_faces": out.n_faces}
+    text = f"{label}: wrote {mesh_out} ({out.n_vertices} vertices, {out.n_faces} faces)"
+    if as_json:
+        d["distortion"] = compare(m, out)
+    _emit(d, as_json, text)
