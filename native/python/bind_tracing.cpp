@@ -50,17 +50,19 @@ void bind_tracing(py::module_& m) {
   m.def("umeyama", [](VRef P, VRef Q, bool with_scale) { return to4(umeyama(P, Q, with_scale)); },
         py::arg("P"), py::arg("Q"), py::arg("with_scale") = true, Release());
   m.def("align_similarity", [](VRef P, VRef V, TRef T, const std::vector<M4>& starts, int coarse, int fine,
-                               double trim, bool with_scale) {
+                               double trim, bool with_scale, double scale_min, double scale_max, int top,
+                               int refine) {
           std::vector<Similarity> S;
           for (const auto& A : starts) S.push_back(from4(A));
           IcpResult r;
           {
             py::gil_scoped_release release;
-            r = align_similarity(P, V, T, S, coarse, fine, trim, with_scale);
+            r = align_similarity(P, V, T, S, coarse, fine, trim, with_scale, scale_min, scale_max, top, refine);
           }
           return py::make_tuple(to4(r.T), r.rms, r.kept_fraction, r.iterations, r.start);
         }, py::arg("P"), py::arg("V"), py::arg("T"), py::arg("starts"), py::arg("coarse") = 8, py::arg("fine") = 30,
-        py::arg("trim") = 0.8, py::arg("with_scale") = true);
+        py::arg("trim") = 0.8, py::arg("with_scale") = true, py::arg("scale_min") = 0.0,
+        py::arg("scale_max") = HUGE_VAL, py::arg("top") = 1, py::arg("refine") = 0);
   py::class_<LowpassOperator>(m, "LowpassOperator")
       .def(py::init<VRef, TRef, double, int>(), py::arg("V"), py::arg("T"), py::arg("t"), py::arg("k"), Release())
       .def("apply", &LowpassOperator::apply, py::arg("W"), Release())

@@ -11,7 +11,8 @@
 
 namespace meshmark {
 
-Similarity umeyama(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::Ref<const MatrixX3dR>& Q, bool with_scale) {
+Similarity umeyama(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::Ref<const MatrixX3dR>& Q, bool with_scale,
+                   double fixed_scale) {
   const Eigen::Index n = P.rows();
   if (n == 0 || Q.rows() != n) throw MeshError("umeyama: point sets must be non-empty and of equal size");
   const Eigen::RowVector3d mp = P.colwise().mean(), mq = Q.colwise().mean();
@@ -29,7 +30,7 @@ Similarity umeyama(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::Ref<const
   if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) d[2] = -1;  // eq. 43: a rotation
   Similarity r;
   r.R = svd.matrixU() * d.asDiagonal() * svd.matrixV().transpose();
-  r.s = (with_scale && varp > 0) ? svd.singularValues().dot(d) / varp : 1.0;  // eq. 42
+  r.s = with_scale ? (varp > 0 ? svd.singularValues().dot(d) / varp : 1.0) : fixed_scale;  // eq. 42
   r.t = mq.transpose() - r.s * r.R * mp.transpose();                           // eq. 41
   return r;
 }
@@ -118,15 +119,22 @@ Step icp_step(const TriangleTree& tree, const Eigen::Ref<const MatrixX3dR>& P, S
   Eigen::Index k = 0;
   for (Eigen::Index i = 0; i < n; ++i)
     if (d2[i] <= thr) A.row(k) = P.row(i), B.row(k) = Q.row(i), ++k;
-  T = meshmark::umeyama(A, B, with_scale);
+  T = meshmark::umeyama(A, B, with_scale, T.s);
   return s;
+}
+
+// Keeps s in [lo, hi] (a point set shrunk onto the surface fits it perfectly: the degenerate minimum of
+// point-to-surface ICP with scale), about the centroid-free form: only s changes, t is rescaled with it.
+void clamp_scale(Similarity& T, double lo, double hi) {
+  T.s = std::clamp(T.s, lo, hi);  // t is refitted by the next step
 }
 
 }  // namespace
 
 IcpResult align_similarity(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::Ref<const MatrixX3dR>& V,
                            const Eigen::Ref<const MatrixX3iR>& T, const std::vector<Similarity>& starts,
-                           int coarse, int fine, double trim, bool with_scale) {
+                           int coarse, int fine, double trim, bool with_scale, double scale_min, double scale_max,
+                           int top, int refine) {
   if (starts.empty()) throw MeshError("align: no start transform");
   if (P.rows() < 3) throw MeshError("align: at least 3 points are needed");
   if (T.rows() == 0) throw MeshError("align: the target has no triangles");
@@ -139,19 +147,40 @@ IcpResult align_similarity(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::R
   IcpResult best;
   best.rms = HUGE_VAL;
   // Each step scores the transform it starts from and refits; the score of a start is that of its
-  // last coarse step.
+  // last coarse step. The `top` best starts then run `refine` more steps; the best of them goes on.
+  std::vector<std::pair<double, Similarity>> scored;
   for (size_t s = 0; s < starts.size(); ++s) {
     Similarity cur = starts[s];
     Step st;
-    for (int it = 0; it < std::max(coarse, 1); ++it) st = icp_step(tree, P, cur, trim, with_scale, true, X, Q, d2, tmp);
+    for (int it = 0; it < std::max(coarse, 1); ++it) {
+      st = icp_step(tree, P, cur, trim, with_scale, true, X, Q, d2, tmp);
+      clamp_scale(cur, scale_min, scale_max);
+    }
+    scored.emplace_back(st.rms, cur);
+    if (st.rms < best.rms) best.start = static_cast<int>(s);
+    best.rms = std::min(best.rms, st.rms);
+  }
+  std::vector<size_t> order(scored.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return scored[a].first < scored[b].first; });
+  best.rms = HUGE_VAL;
+  for (size_t r = 0; r < std::min<size_t>(std::max(top, 1), order.size()); ++r) {
+    Similarity cur = scored[order[r]].second;
+    Step st;
+    st.rms = scored[order[r]].first;
+    st.kept = 0;
+    for (int it = 0; it < refine; ++it) {
+      st = icp_step(tree, P, cur, trim, with_scale, true, X, Q, d2, tmp);
+      clamp_scale(cur, scale_min, scale_max);
+    }
     if (st.rms < best.rms) {
       best.T = cur;
       best.rms = st.rms;
       best.kept_fraction = st.kept;
-      best.iterations = std::max(coarse, 1);
-      best.start = static_cast<int>(s);
+      best.start = static_cast<int>(order[r]);
     }
   }
+  best.iterations = std::max(coarse, 1) + refine;
   // fine: point-to-plane steps (face normals of the nearest triangles)
   MatrixX3dR FN(T.rows(), 3), N(n, 3);
   for (Eigen::Index f = 0; f < T.rows(); ++f) {
@@ -164,6 +193,7 @@ IcpResult align_similarity(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::R
   double prev = best.rms;
   for (int it = 0; it < fine; ++it) {
     const Step st = icp_step(tree, P, cur, trim, with_scale, true, X, Q, d2, tmp, &FN, &N);
+    clamp_scale(cur, scale_min, scale_max);
     ++best.iterations;
     best.rms = st.rms;
     best.kept_fraction = st.kept;

@@ -2,6 +2,7 @@
 #pragma once
 #include "meshmark/mesh.h"
 
+#include <cmath>
 #include <vector>
 
 namespace meshmark {
@@ -22,17 +23,20 @@ struct IcpResult {
 };
 
 // Umeyama's least-squares similarity (IEEE PAMI 13(4), 1991, eqs. 40-42) mapping the rows of P onto
-// the rows of Q; with_scale = false fixes s = 1.
-Similarity umeyama(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::Ref<const MatrixX3dR>& Q, bool with_scale);
+// the rows of Q; with_scale = false fixes s = fixed_scale (R and t are fitted for it).
+Similarity umeyama(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::Ref<const MatrixX3dR>& Q, bool with_scale,
+                   double fixed_scale = 1.0);
 
 // Trimmed ICP with scale (Chetverikov et al.'s trimmed ICP, Umeyama's step): from each start, every
 // iteration maps P by the current similarity, finds the nearest point of (V, T) (exact, TriangleTree),
 // keeps the points whose distance is at most min(quantile(trim), 4 quantile(0.25)) and refits. Each
-// start runs `coarse` point-to-point iterations; the one with the smallest kept RMS goes on for `fine`
+// start runs `coarse` point-to-point iterations; the `top` ones with the smallest kept RMS run `refine`
+// more; the best of those goes on for `fine`
 // linearised point-to-plane iterations with scale (plane of the nearest triangle), or until the RMS
-// changes by less than 1e-9 relatively. MeshError for an empty start list, P or T.
+// changes by less than 1e-9 relatively. After each step s is clamped to [scale_min, scale_max]. MeshError for an empty start list, P or T.
 IcpResult align_similarity(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::Ref<const MatrixX3dR>& V,
                            const Eigen::Ref<const MatrixX3iR>& T, const std::vector<Similarity>& starts,
-                           int coarse, int fine, double trim, bool with_scale);
+                           int coarse, int fine, double trim, bool with_scale, double scale_min = 0,
+                           double scale_max = HUGE_VAL, int top = 1, int refine = 0);
 
 }  // namespace meshmark

@@ -165,9 +165,10 @@ def _subsample(n: int, m: int) -> np.ndarray:
     return np.sort(np.random.default_rng(12345).choice(n, m, replace=False))
 
 
-def align(suspect: Mesh, orig: Original, coarse_points: int = 500, fine_points: int = 5000) -> dict:
-    """Similarity (4x4, suspect -> original frame) by trimmed ICP with scale from 25 starts: the
-    identity and the 24 proper PCA frames. Returns ``{"matrix", "rms", "kept", "start"}``."""
+def align(suspect: Mesh, orig: Original, coarse_points: int = 400, fine_points: int = 5000) -> dict:
+    """Similarity (4x4, suspect -> original frame) by trimmed ICP from 75 starts (below), the 6 best
+    refined, the best of those with scale and point-to-plane steps. Returns ``{"matrix", "rms",
+    "kept", "start"}``."""
     Ts = _tri(suspect)
     used = np.unique(Ts.ravel())
     if used.size < 3:
@@ -176,19 +177,29 @@ def align(suspect: Mesh, orig: Original, coarse_points: int = 500, fine_points: 
     cs, Qs, vs = _frame(S)
     co, Qo, vo = _frame(orig.V[orig.ref])
     s0 = math.sqrt(vo / vs)
-    starts = [np.eye(4)]
+    # starts: the identity (a suspect left in place) and the 24 proper PCA frames, each with the
+    # centroids together and shifted by half a standard deviation either way along the original's
+    # first axis (a cropped suspect's centroid is not the original's), at the PCA scale
+    lam1 = math.sqrt(max(float(np.var((orig.V[orig.ref] - co) @ Qo[:, 0])), 0.0))
+    rots = [np.eye(3)]
     for Rk in proper_axis_rotations():
         R = Qo @ Rk @ Qs.T
         if np.linalg.det(R) < 0:
             R = Qo @ Rk @ np.diag([1, 1, -1]) @ Qs.T
-        A = np.eye(4)
-        A[:3, :3] = s0 * R
-        A[:3, 3] = co - s0 * R @ cs
-        starts.append(A)
+        rots.append(R)
+    starts = []
+    for R in rots:
+        for shift in (0.0, -0.5, 0.5):
+            A = np.eye(4)
+            A[:3, :3] = s0 * R
+            A[:3, 3] = co + shift * lam1 * Qo[:, 0] - s0 * R @ cs
+            starts.append(A)
     Pc = np.ascontiguousarray(S[_subsample(len(S), coarse_points)])
-    A, rms, kept, _, start = _core.align_similarity(Pc, orig.V, orig.T, starts, 6, 0, 0.8, True)
+    # rigid at the PCA scale from every start, then with scale, kept within [0.6, 1.6] x the PCA scale
+    # (a suspect shrunk onto the surface would otherwise fit it perfectly)
+    A, rms, kept, _, start = _core.align_similarity(Pc, orig.V, orig.T, starts, 3, 0, 0.8, False, top=6, refine=12)
     Pf = np.ascontiguousarray(S[_subsample(len(S), fine_points)])
-    A, rms, kept, _, _ = _core.align_similarity(Pf, orig.V, orig.T, [A], 2, 15, 0.8, True)
+    A, rms, kept, _, _ = _core.align_similarity(Pf, orig.V, orig.T, [A], 2, 15, 0.8, True, 0.6 * s0, 1.6 * s0)
     return {"matrix": A, "rms": float(rms), "kept": float(kept), "start": int(start)}
 
 
