@@ -99,15 +99,14 @@ def test_set(names=None):
 
 
 def distortion(orig, V):
+    """Vertex RMSE and symmetric Hausdorff distance over the diagonal, mean normal change in degrees."""
     from meshmark import metrics
 
     d = metrics.bbox_diagonal(orig)
     mv = orig.with_vertices(V)
-    h = metrics.hausdorff_distance(orig, mv)
-    return {"rmse": metrics.vertex_rmse(orig.V, V) / d, "hausdorff": h["distance"] / d if "distance" in h else
-            h["max"] / d, "normal_deg": float(metrics.normal_degradation(orig.V, V, orig)["value"])
-            if isinstance(metrics.normal_degradation(orig.V, V, orig), dict) else
-            float(metrics.normal_degradation(orig.V, V, orig))}
+    h = max(metrics.hausdorff_distance(orig, mv)["upper"], metrics.hausdorff_distance(mv, orig)["upper"])
+    return {"rmse": metrics.vertex_rmse(orig.V, V) / d, "hausdorff": h / d,
+            "normal_deg": float(metrics.normal_degradation(orig.V, V, orig, degrees=True))}
 
 
 def run_mesh(path, mesh, a, rows, drows, other):

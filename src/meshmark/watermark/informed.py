@@ -87,6 +87,7 @@ class Original:
         self.ref[self.T.ravel()] = True
         P = self.V[self.ref]
         self.diag = float(np.linalg.norm(P.max(0) - P.min(0)))
+        self.edge = float(np.median(np.linalg.norm(self.V[self.T] - self.V[np.roll(self.T, 1, axis=1)], axis=2)))
         self._op = None
 
     @property
@@ -165,7 +166,7 @@ def _subsample(n: int, m: int) -> np.ndarray:
     return np.sort(np.random.default_rng(12345).choice(n, m, replace=False))
 
 
-def align(suspect: Mesh, orig: Original, coarse_points: int = 400, fine_points: int = 5000) -> dict:
+def align(suspect: Mesh, orig: Original, coarse_points: int = 400, fine_points: int = 4000) -> dict:
     """Similarity (4x4, suspect -> original frame) by trimmed ICP from 75 starts (below), the 6 best
     refined, the best of those with scale and point-to-plane steps. Returns ``{"matrix", "rms",
     "kept", "start"}``."""
@@ -199,7 +200,7 @@ def align(suspect: Mesh, orig: Original, coarse_points: int = 400, fine_points: 
     # (a suspect shrunk onto the surface would otherwise fit it perfectly)
     A, rms, kept, _, start = _core.align_similarity(Pc, orig.V, orig.T, starts, 3, 0, 0.8, False, top=6, refine=12)
     Pf = np.ascontiguousarray(S[_subsample(len(S), fine_points)])
-    A, rms, kept, _, _ = _core.align_similarity(Pf, orig.V, orig.T, [A], 2, 15, 0.8, True, 0.6 * s0, 1.6 * s0)
+    A, rms, kept, _, _ = _core.align_similarity(Pf, orig.V, orig.T, [A], 1, 8, 0.8, True, 0.6 * s0, 1.6 * s0)
     return {"matrix": A, "rms": float(rms), "kept": float(kept), "start": int(start)}
 
 
@@ -216,8 +217,10 @@ def detect(suspect: Mesh, orig: Original, seeds, return_u: bool = False) -> dict
     Q, _, _, d2 = _core.closest_points(orig.V, np.ascontiguousarray(Vs), Ts)
     corr = "closest-point"
     if suspect.n_vertices == orig.mesh.n_vertices:
+        # the same vertices when they are still within a quarter of an edge of their originals (a
+        # reordered copy's are edges apart); the nearest points of a noisy surface are biased
         di = np.linalg.norm(Vs - orig.V, axis=1)[orig.ref]
-        if np.median(di) <= 2.0 * np.median(np.sqrt(d2[orig.ref])) + 1e-12 * orig.diag:
+        if np.median(di) <= 0.25 * orig.edge:
             Q, d2 = Vs, (Vs - orig.V) ** 2 @ np.ones(3)
             corr = "identity"
     D = Q - orig.V
