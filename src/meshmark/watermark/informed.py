@@ -188,7 +188,7 @@ def align(suspect: Mesh, orig: Original, coarse_points: int = 400, fine_points: 
         if np.linalg.det(R) < 0:
             R = Qo @ Rk @ np.diag([1, 1, -1]) @ Qs.T
         rots.append(R)
-    starts = []
+    starts = [np.eye(4)]  # the suspect left in place, at its own scale (a pose: one part still fits)
     for R in rots:
         for shift in (0.0, -0.5, 0.5):
             A = np.eye(4)
@@ -198,9 +198,10 @@ def align(suspect: Mesh, orig: Original, coarse_points: int = 400, fine_points: 
     Pc = np.ascontiguousarray(S[_subsample(len(S), coarse_points)])
     # rigid at the PCA scale from every start, then with scale, kept within [0.6, 1.6] x the PCA scale
     # (a suspect shrunk onto the surface would otherwise fit it perfectly)
-    A, rms, kept, _, start = _core.align_similarity(Pc, orig.V, orig.T, starts, 3, 0, 0.8, False, top=6, refine=12)
+    A, rms, kept, _, start = _core.align_similarity(Pc, orig.V, orig.T, starts, 3, 0, 0.5, False, top=6, refine=12)
     Pf = np.ascontiguousarray(S[_subsample(len(S), fine_points)])
-    A, rms, kept, _, _ = _core.align_similarity(Pf, orig.V, orig.T, [A], 1, 8, 0.8, True, 0.6 * s0, 1.6 * s0)
+    # the fine stage keeps the best-fitting half: a posed suspect's fit locks onto one rigid part
+    A, rms, kept, _, _ = _core.align_similarity(Pf, orig.V, orig.T, [A], 1, 10, 0.5, True, 0.6 * s0, 1.6 * s0)
     return {"matrix": A, "rms": float(rms), "kept": float(kept), "start": int(start)}
 
 
