@@ -61,9 +61,9 @@ def bench_issue_trace(m, copies):
     with tempfile.TemporaryDirectory() as tmp:
         reg = os.path.join(tmp, "r.sqlite")
         out, t_all = timed(lambda: tracing.issue(m, key="k", registry=reg, n_copies=copies))
+        c_all = CPU["last"]
         reg0 = os.path.join(tmp, "r0.sqlite")
         _, t_blind = timed(lambda: tracing.issue(m, key="k", registry=reg0, n_copies=copies, informed=False))
-        c_all = CPU["last"]
         print(f"issue {copies} copies: {t_all:.1f} s wall ({c_all:.1f} s CPU) with the pattern, {t_blind:.1f} s wall "
               f"({CPU['last']:.1f} s CPU) blind only "
               f"(pattern share {t_all - t_blind:.1f} s)", flush=True)
