@@ -60,6 +60,8 @@ def main(argv=None):
     ap.add_argument("--trace-carriers", type=int, default=tracing.TRACE_CARRIERS)
     ap.add_argument("--trace-copies", type=int, default=10)
     ap.add_argument("--trace-step", type=int, default=4)
+    ap.add_argument("--original", action="store_true",
+                    help="trace with the unmarked base mesh as the original (informed + blind evidence)")
     a = ap.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
     skinned, rig = _import_knight()
@@ -114,12 +116,13 @@ def trace_part(a, knight, rig, base, co0):
         copies = tracing.issue(base, key="studio", registry=reg, n_copies=100)
         with tracing.Registry(reg) as R:
             (_, setup, C), = R.assets()
-        none_rows = play(knight, rig, max(a.step, 4), lambda m: tracing.trace(m, registry=reg))
+        orig = base if a.original else None
+        none_rows = play(knight, rig, max(a.step, 4), lambda m: tracing.trace(m, registry=reg, original=orig))
         for cid, V in copies[:a.trace_copies]:
             _restore(knight, co0)
             bridge.apply_displacement(knight, V - base.V)
             rows += [(cid, act, fr, x) for act, fr, x in
-                     play(knight, rig, a.trace_step, lambda m: tracing.trace(m, registry=reg))]
+                     play(knight, rig, a.trace_step, lambda m: tracing.trace(m, registry=reg, original=orig))]
     right = np.mean([x["copy"] == cid for cid, _, _, x in rows])
     per_copy = {}
     for cid, _, _, x in rows:

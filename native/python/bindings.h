@@ -35,6 +35,7 @@ void bind_radial(pybind11::module_& m);     // ch. 6 Cho / Yang radial watermark
 void bind_analysis(pybind11::module_& m);   // ch. 3-5 normal and curvature degradation, quantization levels (bind_analysis.cpp)
 void bind_stego(pybind11::module_& m);      // §4.3.2 LSB steganography, Chao et al. 2009 baseline (bind_stego.cpp)
 void bind_steganalysis(pybind11::module_& m);  // ch. 8 steganalysis features YANG208 / LFS76 / NVT36 (bind_steganalysis.cpp)
-void bind_coding(pybind11::module_& m);     // convolutional code + soft Viterbi, keyed-code search (bind_coding.cpp)
+void bind_coding(pybind11::module_& m);
+void bind_tracing(pybind11::module_& m);     // informed tracing: closest points, similarity ICP, low-pass patterns (bind_tracing.cpp)     // convolutional code + soft Viterbi, keyed-code search (bind_coding.cpp)
 
 }  // namespace meshmark::python

@@ -18,4 +18,5 @@ PYBIND11_MODULE(_core, m) {
   meshmark::python::bind_stego(m);
   meshmark::python::bind_steganalysis(m);
   meshmark::python::bind_coding(m);
+  meshmark::python::bind_tracing(m);
 }

@@ -46,6 +46,41 @@ inline double tri_dist2(const double* p, const double* a, const double* ab, cons
   return sq(ap[0] - v * ab[0] - w * ac[0], ap[1] - v * ab[1] - w * ac[1], ap[2] - v * ab[2] - w * ac[2]);
 }
 
+// The closest point of the same triangle as barycentric weights (u, v, w) of (a, b, c): the same
+// region tests as tri_dist2.
+inline void tri_closest_bary(const double* p, const double* a, const double* ab, const double* ac, double* bw) {
+  const double ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+  const double d1 = ab[0] * ap[0] + ab[1] * ap[1] + ab[2] * ap[2];
+  const double d2 = ac[0] * ap[0] + ac[1] * ap[1] + ac[2] * ap[2];
+  auto set = [&](double u, double v, double w) { bw[0] = u, bw[1] = v, bw[2] = w; };
+  if (d1 <= 0 && d2 <= 0) return set(1, 0, 0);
+  const double aa = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+  const double abac = ab[0] * ac[0] + ab[1] * ac[1] + ab[2] * ac[2];
+  const double cc = ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2];
+  const double d3 = d1 - aa, d4 = d2 - abac;
+  if (d3 >= 0 && d4 <= d3) return set(0, 1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    return set(1 - v, v, 0);
+  }
+  const double d5 = d1 - abac, d6 = d2 - cc;
+  if (d6 >= 0 && d5 <= d6) return set(0, 0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    return set(1 - w, 0, w);
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return set(0, 1 - w, w);
+  }
+  const double den = 1.0 / (va + vb + vc);
+  const double v = vb * den, w = vc * den;
+  set(1 - v - w, v, w);
+}
+
 inline double box_dist2(const double* p, const float* lo, const float* hi) {
   double d = 0;
   for (int k = 0; k < 3; ++k) {
@@ -132,6 +167,26 @@ double TriangleTree::face_distance2(Index face, const Eigen::Vector3d& p) const 
   const Tri& r = tri_[pos_[face]];
   const double q[3] = {p[0], p[1], p[2]};
   return tri_dist2(q, r.a, r.ab, r.ac);
+}
+
+double TriangleTree::closest_point(const Eigen::Vector3d& p, Index* face, Eigen::Vector3d* q,
+                                   Eigen::Vector3d* bary) const {
+  Index f = -1;
+  const double d2 = closest(p, &f);
+  if (face) *face = f;
+  if (f < 0) {
+    if (q) q->setConstant(std::numeric_limits<double>::quiet_NaN());
+    if (bary) bary->setZero();
+    return d2;
+  }
+  const Tri& r = tri_[pos_[f]];
+  const double x[3] = {p[0], p[1], p[2]};
+  double bw[3];
+  tri_closest_bary(x, r.a, r.ab, r.ac, bw);
+  if (q)
+    for (int k = 0; k < 3; ++k) (*q)[k] = r.a[k] + bw[1] * r.ab[k] + bw[2] * r.ac[k];
+  if (bary) *bary = Eigen::Vector3d(bw[0], bw[1], bw[2]);
+  return d2;
 }
 
 double TriangleTree::closest(const Eigen::Vector3d& p, Index* face) const {

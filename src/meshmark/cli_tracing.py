@@ -56,7 +56,7 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
         if clash:
             raise MeshError(f"{os.path.join(outdir, f'{stem}-{clash[0]}{ext}')} exists; pass --force to overwrite")
     out = tracing.issue(mesh, key=key, registry=registry, n_copies=copies, ids=ids, method=method,
-                        params=params_mode, source_name=os.path.basename(inp))
+                        params=params_mode, source_name=os.path.basename(inp), original=inp)
     paths = {}
     for cid, V in out:
         path = os.path.join(outdir, f"{stem}-{cid}{ext}")
@@ -74,23 +74,31 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
 @click.argument("suspect", metavar="SUSPECT")
 @click.option("--registry", required=True, type=click.Path(dir_okay=False, exists=False), help="SQLite registry.")
 @click.option("--key", default=None, help="The owner's key (if the registry does not store it).")
+@click.option("--original", default=None, type=click.Path(dir_okay=False),
+              help="The unmarked original (default: the path recorded by issue, if its digest still matches).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def trace(suspect, registry, key, as_json):
+def trace(suspect, registry, key, original, as_json):
     """Which issued copy is SUSPECT? Names the best copy if its false-alarm probability (corrected for
-    every codeword in the registry) is below 1e-6, else "none".
+    every copy in the registry, and for the two tests when the original is used) is below 1e-6, else
+    "none". With the original (--original, or the path issue recorded) the copy's keyed pattern is
+    correlated too (informed tracing); without it only the blind codeword is read.
 
     Exit status: 0 a copy named, 1 none, 2 error.
     """
     from . import read_mesh
     from .watermark import tracing
 
-    r = tracing.trace(read_mesh(suspect), registry=registry, key=key)
+    r = tracing.trace(read_mesh(suspect), registry=registry, key=key, original=original)
     d = {"input": suspect, **r}
-    text = (f"{suspect}: copy {r['copy']} ({r['matches']}/{r['n_carriers']} carrier bits match, "
-            f"P(false alarm) {r['p_false_alarm']:.3g} over {r['n_copies']} copies)" if r["detected"] else
-            f"{suspect}: none (best {r['matches']}/{r['n_carriers']} matching bits, P(false alarm) "
-            f"{r['p_false_alarm']:.3g} over {r['n_copies']} copies)")
-    click.echo(json.dumps(d, indent=2) if as_json else text)
+    b, inf = r["blind"] or {}, r["informed"]
+    ev = (f"blind {b.get('matches', 0)}/{b.get('n_carriers', 0)} bits" +
+          (f", informed z {inf['z']:.1f} ({inf['correspondence']}, {inf['n_used']} vertices)" if inf else
+           ", no original: blind only"))
+    text = (f"{suspect}: copy {r['copy']} ({ev}; P(false alarm) {r['p_false_alarm']:.3g} over {r['n_copies']} "
+            f"copies, evidence {r['evidence']})" if r["detected"] else
+            f"{suspect}: none ({ev}; P(false alarm) {r['p_false_alarm']:.3g} over {r['n_copies']} copies, "
+            f"evidence {r['evidence']})")
+    click.echo(json.dumps(d, indent=2, default=float) if as_json else text)
     sys.exit(0 if r["detected"] else 1)
 
 

@@ -16,6 +16,10 @@ class TriangleTree {
   // Squared distance from p to the nearest triangle and its index (-1 if the tree is empty).
   double closest(const Eigen::Vector3d& p, Index* face = nullptr) const;
 
+  // The nearest point q on the triangle set (exact, as closest()), its triangle and barycentric
+  // coordinates (q = b0 a + b1 b + b2 c of T's corners); returns the squared distance.
+  double closest_point(const Eigen::Vector3d& p, Index* face, Eigen::Vector3d* q, Eigen::Vector3d* bary = nullptr) const;
+
   // Squared distance from p to one triangle, by its index in T.
   double face_distance2(Index face, const Eigen::Vector3d& p) const;
 

@@ -22,13 +22,21 @@ Registry schema (``schema_version`` 1)::
            source_sha256 TEXT UNIQUE NOT NULL,         -- of the welded V (float64) and faces
            source_name TEXT, setup TEXT NOT NULL,      -- JSON: method, params, choice, weld, key
                                                        -- (or null), side_info (carriers), mesh
-           n_carriers INTEGER NOT NULL, created TEXT)
+           n_carriers INTEGER NOT NULL, created TEXT,
+           original_path TEXT,                         -- the original as given to issue (nullable)
+           original_resolved TEXT)                     -- its absolute, symlink-resolved path (nullable)
     copies(copy_id TEXT PRIMARY KEY, asset_id INTEGER NOT NULL REFERENCES assets(asset_id),
            codeword BLOB NOT NULL,                     -- C bits, numpy.packbits order
            path TEXT, created TEXT)
 
 A second :func:`issue` of the same original into the same registry adds copies to its asset with
 the asset's parameters and side information.
+
+Informed tracing (:mod:`.informed`, docs/tracing.md): every copy also carries a keyed low-pass
+pattern (settings in ``setup['informed']``; the field of copy j is derived from the key, the digest
+and the copy id, nothing per copy is stored). When the original is available to :func:`trace`
+(given, or found at the recorded path with the recorded digest) the pattern is correlated too and
+the two tests are combined by Bonferroni: ``p = min(1, 2 min(p_blind, p_informed))``.
 """
 from __future__ import annotations
 
@@ -44,6 +52,7 @@ import numpy as np
 from .._core import MeshError
 from ..mesh import as_mesh
 from ..metrics import false_alarm_probability
+from . import informed as _informed
 from . import keys as _keys
 from .framework import DETECTION_THRESHOLD, MAX_ROUNDS, MIN_CARRIERS, _method, _weld, embed_channel
 from .keyfile import Keyfile
@@ -62,6 +71,7 @@ CREATE TABLE IF NOT EXISTS copies(copy_id TEXT PRIMARY KEY, asset_id INTEGER NOT
     codeword BLOB NOT NULL, path TEXT, created TEXT);
 CREATE INDEX IF NOT EXISTS copies_asset ON copies(asset_id);
 """
+_ASSET_COLUMNS = (("original_path", "TEXT"), ("original_resolved", "TEXT"))  # added by informed tracing
 
 
 def _now() -> str:
@@ -84,6 +94,7 @@ class Registry:
                 self.db.commit()
             elif row[0] != SCHEMA_VERSION:
                 raise MeshError(f"registry '{self.path}' has schema version {row[0]}, this meshmark reads {SCHEMA_VERSION}")
+            self._columns = {r[1] for r in self.db.execute("PRAGMA table_info(assets)")}
         except sqlite3.DatabaseError as exc:
             raise MeshError(f"'{self.path}' is not a meshmark registry ({exc})") from None
 
@@ -104,6 +115,24 @@ class Registry:
         cur = self.db.execute("INSERT INTO assets(source_sha256, source_name, setup, n_carriers, created) "
                               "VALUES (?, ?, ?, ?, ?)", (sha, name, json.dumps(setup), n, _now()))
         return int(cur.lastrowid)
+
+    def _add_columns(self):
+        for name, kind in _ASSET_COLUMNS:  # additive: registries written before informed tracing
+            if name not in self._columns:
+                self.db.execute(f"ALTER TABLE assets ADD COLUMN {name} {kind}")
+                self._columns.add(name)
+
+    def set_original(self, asset_id: int, path: str) -> None:
+        """Record where the asset's original is (as given, and resolved)."""
+        self._add_columns()
+        self.db.execute("UPDATE assets SET original_path = ?, original_resolved = ? WHERE asset_id = ?",
+                        (str(path), os.path.realpath(path), asset_id))
+
+    def original(self, asset_id: int):
+        """(path as given, resolved path, source_sha256) of an asset; paths None when not recorded."""
+        cols = "original_path, original_resolved" if "original_path" in self._columns else "NULL, NULL"
+        row = self.db.execute(f"SELECT {cols}, source_sha256 FROM assets WHERE asset_id = ?", (asset_id,)).fetchone()
+        return (None, None, None) if row is None else tuple(row)
 
     def copy_ids(self) -> set:
         return {r[0] for r in self.db.execute("SELECT copy_id FROM copies")}
@@ -141,11 +170,16 @@ def _setup_keyfile(setup: dict, key: str) -> Keyfile:
 
 
 def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: str = "laplacian", params="auto",
-          weld: bool = True, store_key: bool = True, source_name: str = "", progress=None, **method_params):
+          weld: bool = True, store_key: bool = True, source_name: str = "", progress=None, original=None,
+          informed: bool = True, **method_params):
     """Mark copies of the mesh, each with its own random codeword; record them in ``registry`` (a
     path or :class:`Registry`). Give ``n_copies`` (ids continue the registry's numbering: ``0001``, ...)
     or ``ids`` (strings, unique in the registry). Returns a list of ``(copy_id, V)`` with V the
-    marked vertices (input order). Nothing is recorded unless every copy is marked."""
+    marked vertices (input order). Nothing is recorded unless every copy is marked.
+
+    ``informed`` (default on, for a new asset): each copy also carries its keyed low-pass pattern
+    (:mod:`.informed`); ``original``: the path of the original file, recorded so that :func:`trace`
+    can find it (optional; ``meshmark issue`` records IN)."""
     report = progress or (lambda f, t: None)
     mesh_in = as_mesh(V, F)
     key = _keys.check_key(key)
@@ -181,6 +215,7 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
             p, cids, side, choice = choose(mesh, m, params, method_params, None, need=TRACE_CARRIERS)
             side = dict(side)
             asset_id = None
+            inf_params = _informed.default_params(mesh) if informed else None
         else:
             asset_id, setup = found
             if setup["method"] != method:
@@ -188,6 +223,7 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
             if setup.get("key_sha256") != hashlib.sha256(key.encode()).hexdigest():
                 raise MeshError("the registry holds this mesh under another key")
             p, choice = setup["params"], setup.get("choice")
+            inf_params = setup.get("informed")
             cids = np.asarray(setup["side_info"]["carriers"], np.int64)
             side = {k: v for k, v in setup["side_info"].items() if k != "carriers"}
         C = int(len(cids))
@@ -198,10 +234,17 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
         carriers = np.asarray(cids)[order]
         out, rows = [], []
         trace_side = side if found is not None else None
+        orig = _informed.Original(mesh, inf_params) if inf_params else None
+        pats = None
         for j, cid in enumerate(ids):
             report(j / len(ids), f"copy {cid}")
             cw = np.unpackbits(np.frombuffer(secrets.token_bytes((C + 7) // 8), np.uint8))[:C]
-            Vm, s_j, _ = embed_channel(mesh, m, p, dict(trace_side or side), carriers, cw ^ white)
+            base = mesh
+            if orig is not None:  # the keyed pattern first; the blind mark on top is checked below
+                if j % _informed._BATCH == 0:
+                    pats = orig.patterns([_informed.copy_seed(key, sha, c) for c in ids[j:j + _informed._BATCH]])
+                base = mesh.with_vertices(orig.marked(pats[:, j % _informed._BATCH]))
+            Vm, s_j, _ = embed_channel(base, m, p, dict(trace_side or side), carriers, cw ^ white)
             if trace_side is None:
                 trace_side = s_j  # the first copy's side information serves every copy
             # every copy must read back with the one side information kept for the asset: re-embed the
@@ -226,7 +269,11 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
                      "key": key if store_key else None, "key_sha256": hashlib.sha256(key.encode()).hexdigest(),
                      "side_info": {**trace_side, "carriers": [int(c) for c in cids]},
                      "mesh": {"n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces}}
+            if inf_params:
+                setup["informed"] = inf_params
             asset_id = reg.add_asset(sha, source_name, setup, C)
+        if original is not None:
+            reg.set_original(asset_id, os.fspath(original))
         now = _now()
         reg.db.executemany("INSERT INTO copies(copy_id, asset_id, codeword, path, created) VALUES (?, ?, ?, NULL, ?)",
                            [(cid, asset_id, blob, now) for cid, blob in rows])
@@ -252,16 +299,28 @@ def set_paths(registry, paths: dict) -> None:
             reg.close()
 
 
-def trace(V, F=None, *, registry, key=None) -> dict:
+def trace(V, F=None, *, registry, key=None, original=None) -> dict:
     """Which issued copy is this mesh? Returns a dict with ``detected``, ``copy`` (id or None),
-    ``p_false_alarm`` (corrected for every codeword compared), ``matches``, ``n_carriers``,
-    ``n_copies``, ``asset_id``, ``second_matches``."""
+    ``p_false_alarm`` (corrected for every codeword compared and, when the original was used, for the
+    two tests), ``evidence`` (``"informed+blind"`` or ``"blind"``), ``matches``, ``n_carriers``,
+    ``n_copies``, ``asset_id``, ``second_matches``, ``blind`` and ``informed`` (each test's best copy,
+    its p and details; ``informed`` is None without an original) and ``originals`` (per asset: where
+    the original was looked for and whether it was used).
+
+    ``original``: the original (a path or a Mesh); without it the path recorded by :func:`issue` is
+    tried, and an original whose digest differs from the registry's is not used (blind only). A given
+    original that matches no asset of the registry is a MeshError."""
+    from ..io import read_mesh
+
     mesh0 = as_mesh(V, F)
+    given = None
+    if original is not None:
+        given = read_mesh(os.fspath(original)) if isinstance(original, (str, os.PathLike)) else as_mesh(original)
     reg = registry if isinstance(registry, Registry) else Registry(registry, create=False)
     try:
         assets = reg.assets()
         n_total = reg.n_copies()
-        best = None
+        best, best_inf, originals = None, None, []
         for asset_id, setup, C in assets:
             k = key if key is not None else setup.get("key")
             if k is None:
@@ -284,14 +343,42 @@ def trace(V, F=None, *, registry, key=None) -> dict:
                     "second_matches": second}
             if best is None or false_alarm_probability(cand["matches"], C) < false_alarm_probability(best["matches"], best["n_carriers"]):
                 best = cand
+            orig, info = _informed.find_original(reg, asset_id, setup, given)
+            originals.append(info)
+            if orig is not None:
+                sha = reg.original(asset_id)[2]
+                det = _informed.detect(_informed._welded(mesh0, bool(setup["weld"])), orig,
+                                       [_informed.copy_seed(k, sha, c) for c in cids])
+                z = det.pop("z")
+                jz = int(np.argmax(z))
+                zs = np.sort(z)
+                inf = {"asset_id": asset_id, "copy_id": cids[jz], "z": float(z[jz]),
+                       "second_z": float(zs[-2]) if len(zs) > 1 else 0.0, **det}
+                if best_inf is None or inf["z"] > best_inf["z"]:
+                    best_inf = inf
+        if given is not None and not any(o["status"] == "given" for o in originals):
+            raise MeshError("the original given is not the original of any asset in the registry (its digest differs)")
         if best is None:
-            return {"detected": False, "copy": None, "p_false_alarm": 1.0, "matches": 0, "n_carriers": 0,
-                    "n_copies": n_total, "asset_id": None, "second_matches": 0}
-        p = min(1.0, n_total * false_alarm_probability(best["matches"], best["n_carriers"]))
+            return {"detected": False, "copy": None, "p_false_alarm": 1.0, "evidence": "blind", "matches": 0,
+                    "n_carriers": 0, "n_copies": n_total, "asset_id": None, "second_matches": 0,
+                    "blind": None, "informed": None, "originals": originals}
+        p_blind = min(1.0, n_total * false_alarm_probability(best["matches"], best["n_carriers"]))
+        blind = {"copy": best["copy_id"], "asset_id": best["asset_id"], "p_false_alarm": p_blind,
+                 "matches": best["matches"], "n_carriers": best["n_carriers"]}
+        informed = None
+        winner, p = blind, p_blind
+        if best_inf is not None:
+            p_inf = min(1.0, n_total * _informed.tail_probability(best_inf["z"]))
+            informed = {"copy": best_inf.pop("copy_id"), "p_false_alarm": p_inf, **best_inf}
+            p = min(1.0, 2.0 * min(p_blind, p_inf))  # Bonferroni over the two tests
+            if p_inf < p_blind:
+                winner = informed
         detected = bool(p < DETECTION_THRESHOLD)
-        return {"detected": detected, "copy": best["copy_id"] if detected else None, "p_false_alarm": p,
+        return {"detected": detected, "copy": winner["copy"] if detected else None, "p_false_alarm": p,
+                "evidence": "informed+blind" if informed is not None else "blind",
                 "matches": best["matches"], "n_carriers": best["n_carriers"], "n_copies": n_total,
-                "asset_id": best["asset_id"] if detected else None, "second_matches": best["second_matches"]}
+                "asset_id": winner["asset_id"] if detected else None, "second_matches": best["second_matches"],
+                "blind": blind, "informed": informed, "originals": originals}
     finally:
         if not isinstance(registry, Registry):
             reg.close()
