@@ -42,13 +42,18 @@ AUTO_FILL_MAX_VERTICES = 50_000  # switching to Custom fills in the automatic ch
 
 
 def _relative_ok() -> set:
-    """The option that lets a path property hold ``//`` (blend-relative) paths (Blender 4.5+; older ones
-    take them without it)."""
-    try:
-        StringProperty(subtype="FILE_PATH", options={"PATH_SUPPORTS_BLEND_RELATIVE"})
-        return {"PATH_SUPPORTS_BLEND_RELATIVE"}
-    except TypeError:
+    """The option that lets a path property hold ``//`` (blend-relative) paths where Blender has it
+    (4.5+; older versions take such paths without it and refuse the option when a class registers)."""
+    if bpy.app.version < (4, 2, 0):
         return set()
+    probe = type("MESHMARK_PG_probe", (PropertyGroup,), {"__annotations__": {
+        "p": StringProperty(subtype="FILE_PATH", options={"PATH_SUPPORTS_BLEND_RELATIVE"})}})
+    try:
+        bpy.utils.register_class(probe)
+    except (TypeError, ValueError):
+        return set()
+    bpy.utils.unregister_class(probe)
+    return {"PATH_SUPPORTS_BLEND_RELATIVE"}
 
 
 RELATIVE = _relative_ok()

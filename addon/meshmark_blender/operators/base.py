@@ -136,13 +136,20 @@ class Base:
             area.tag_redraw()
 
     def modal(self, context, event):
+        try:
+            return self._tick(context, event)
+        except Exception as exc:  # never leave a job running after an error
+            self._end(context)
+            return self.fail(context, exc)
+
+    def _tick(self, context, event):
         job = self._job
         if event.type == "ESC" and event.value == "PRESS":
             self._gen.close()  # the task's clean-up runs (frames, modifiers, processes)
             self._end(context)
             self.cancelled(context, job)
             return {"CANCELLED"}
-        if event.type != "TIMER" or event.timer is not self._timer:
+        if event.type != "TIMER":  # (any timer: Blender 3.4's events do not say which)
             return {"PASS_THROUGH"}
         until = time.monotonic() + TICK_SECONDS
         try:
@@ -155,9 +162,6 @@ class Base:
             if stop.value is None:
                 return {"CANCELLED"}
             return self.done(context, stop.value)
-        except Exception as exc:
-            self._end(context)
-            return self.fail(context, exc)
         context.window_manager.progress_update(int(1000 * job.fraction))
         if getattr(context, "workspace", None) is not None:
             context.workspace.status_text_set(job.status())

@@ -77,9 +77,9 @@ class MESHMARK_PT_sidebar(Sidebar, bpy.types.Panel):
         rest = targets.left_out(context, targets.Target(objs)) if objs else []
         if rest:
             n = len(rest) + len(objs)
-            row = layout.row()
-            row.label(text=f"{len(objs)} of {n} parts selected", icon="ERROR")
-            row.operator("meshmark.select_parts", text="All", icon="RESTRICT_SELECT_OFF")
+            col = layout.column(align=True)
+            col.label(text=f"{len(objs)} of {n} parts selected", icon="ERROR")
+            col.operator("meshmark.select_parts", text=f"Select all {n} parts", icon="RESTRICT_SELECT_OFF")
         field(layout, s, "keyfile")
         row = layout.row(align=True)
         row.operator("meshmark.load_keyfile", text="Load", icon="FILEBROWSER")

@@ -2,10 +2,11 @@
 
 :mod:`..study_runner` runs in that process and prints JSON lines (planned tasks, tasks done, the
 summary); :class:`StudyRun` reads them on a thread. The Python is Blender's own interpreter
-(:func:`python_executable`): ``sys.executable`` when it is a Python (the bpy module, Blender 4+), else
-the interpreter of the prefix Blender's Python runs from (a distribution's Blender, such as Debian's
-3.4 whose ``sys.executable`` is the blender binary, embeds ``/usr/lib/libpython3.x``: its binary is
-``/usr/bin/python3.x``; an official build ships ``<version>/python/bin/python3.x``). The process gets
+(:func:`python_executable`): the interpreter of the prefix Blender's Python runs from (the bpy
+module's venv; an official build's ``<version>/python/bin/python3.x``; a distribution's Blender, such
+as Debian's 3.4, embeds ``/usr/lib/libpython3.x``: ``/usr/bin/python3.x``), else ``sys.executable``
+when it is a Python (a Blender without a bundled Python sets it to the first ``python3.x`` on PATH,
+which may be another Python altogether). The process gets
 Blender's ``sys.path``, so it imports exactly what Blender imports (the extension's bundled packages).
 ``$MESHMARK_PYTHON`` overrides the choice.
 """
@@ -29,20 +30,20 @@ CURRENT = {"run": None}  # the StudyRun in progress (the panel and tests read it
 
 
 def python_executable() -> str | None:
-    """Blender's own Python interpreter (see the module doc), or None if none is found."""
+    """Blender's own Python interpreter (see the module doc), or None if none is found. The prefix
+    comes first: a Blender without a bundled Python sets ``sys.executable`` to whatever ``python3.x``
+    its PATH finds first, which need not be the interpreter it embeds."""
     env = os.environ.get("MESHMARK_PYTHON")
     if env:
         return env
-    exe = sys.executable or ""
-    if os.path.basename(exe).lower().startswith("python"):
-        return exe
     v = sys.version_info
     names = [f"python{v.major}.{v.minor}", f"python{v.major}", "python"]
     for prefix in dict.fromkeys((sys.prefix, sys.exec_prefix, sys.base_prefix)):
         for p in [os.path.join(prefix, "bin", n) for n in names] + [os.path.join(prefix, "python.exe")]:
             if os.path.isfile(p) and os.access(p, os.X_OK):
                 return p
-    return None
+    exe = sys.executable or ""
+    return exe if os.path.basename(exe).lower().startswith("python") else None
 
 
 def missing_packages() -> list:
