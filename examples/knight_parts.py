@@ -67,7 +67,7 @@ def detect(args, folder):
         rig.animation_data.action = act
         fr = frames_of(act, args.step)
         r = api.check_frames(parts[:1], frame_start=fr[0], frame_end=fr[-1], frame_step=args.step,
-                             output_dir=os.path.join(folder, "frames"))
+                             output_dir=os.path.join(folder, "frames"), plot=False)
         got = r.rows
         rows += got
         per.append((act.name, len(got), sum(x["detected"] for x in got), sum(x["message_ok"] for x in got),

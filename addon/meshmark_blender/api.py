@@ -67,11 +67,12 @@ def capacity(objects=None, *, method="laplacian", message=None, bits=None, param
 
 
 def check_frames(objects=None, *, keyfile="", frame_start=None, frame_end=None, frame_step=1, output_dir,
-                 progress=None, context=None) -> Outcome:
-    """Verify on every ``frame_step``-th frame (default: the animation's range); CSV and plot in ``output_dir``."""
+                 plot=True, progress=None, context=None) -> Outcome:
+    """Verify on every ``frame_step``-th frame (default: the animation's range); CSV (and plot) in ``output_dir``."""
     c = _ctx(context)
     return run(_frames.frames_steps(c, _target(c, objects), keyfile=keyfile, frame_start=frame_start,
-                                    frame_end=frame_end, frame_step=frame_step, output_dir=output_dir), progress)
+                                    frame_end=frame_end, frame_step=frame_step, output_dir=output_dir, plot=plot),
+               progress)
 
 
 def issue(objects=None, *, copies, key, registry, output_dir, file_format="obj", store_key=True, method="laplacian",

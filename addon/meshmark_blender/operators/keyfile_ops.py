@@ -53,8 +53,11 @@ class MESHMARK_OT_save_keyfile(Base, bpy.types.Operator):
         path = keyfiles.resolve(self.filepath, "file")
         if not path:
             raise MeshError("choose a file name for the keyfile")
+        if os.path.exists(path) and not self.overwrite:
+            raise MeshError(f"'{os.path.basename(path)}' already exists: " + " ".join(keyfiles.what_is_lost(path))
+                            + " Choose another name, or tick Overwrite")
         yield 0.5, "Saving"
-        save_keyfile(kf, path, overwrite=self.overwrite)  # MeshError if it exists: tick Overwrite
+        save_keyfile(kf, path, overwrite=self.overwrite)
         return Outcome("meshmark.save_keyfile", [o.name for o in properties.current_objects(context)], "INFO",
                        f"Keyfile saved to {path}", {"keyfile": path})
 

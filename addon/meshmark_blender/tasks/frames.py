@@ -36,8 +36,10 @@ def animation_range(context, objects) -> tuple:
     return sc.frame_start, sc.frame_end, "the scene"
 
 
-def frames_steps(context, chosen, *, keyfile="", frame_start=None, frame_end=None, frame_step=1, output_dir=""):
-    """Verify at frames ``frame_start..frame_end`` every ``frame_step`` (None: the animation's range)."""
+def frames_steps(context, chosen, *, keyfile="", frame_start=None, frame_end=None, frame_step=1, output_dir="",
+                 plot=True):
+    """Verify at frames ``frame_start..frame_end`` every ``frame_step`` (None: the animation's range);
+    the table always, the plot unless ``plot=False``."""
     path = keyfiles.resolve(keyfile or keyfiles.for_objects(chosen.objects))
     kf = read_keyfile(path)
     target, parts = targets.for_keyfile(context, kf, chosen)
@@ -72,12 +74,13 @@ def frames_steps(context, chosen, *, keyfile="", frame_start=None, frame_end=Non
     stem = f"meshmark_study_{bpy.path.clean_name(keyfiles.shared_name(target.names))}"
     csv_path, png_path = study.output_paths(out, stem)
     study.write_csv(rows, csv_path)
-    why = study.write_plot(rows, png_path, f"{target.label}: {kf.method} watermark, frames {start}-{end}")
+    why = (study.write_plot(rows, png_path, f"{target.label}: {kf.method} watermark, frames {start}-{end}")
+           if plot else "no plot (not asked for)")
     s = study.summarize(rows)
     data = {"keyfile": path, "csv": csv_path, "plot": None if why else png_path, "summary": s, "rows": rows,
             "frames_from": source if frame_start is None and frame_end is None else "the given range",
             "skipped_modifiers": [m for _, m in skipped], "missing_parts": parts["missing"]}
-    warnings = [why] if why else []
+    warnings = [why] if why and plot else []
     if parts["missing"]:
         warnings.append(f"{words.names(parts['missing'])} not in the scene: read without")
     level = "INFO" if s["detected_frames"] == s["frames"] else "WARNING"

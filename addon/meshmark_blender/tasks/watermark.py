@@ -76,7 +76,7 @@ def parts_note(context, target) -> str | None:
     n = len(rest) + len(target.objects)
     return (f"{target.quoted} {'is' if len(target.objects) == 1 else 'are'} only part of a character of {n} skinned "
             f"objects ({words.names(rest)} left out): the mark then lives in fewer vertices and is read less "
-            "reliably once posed. Select all its parts (Select parts) to mark the character as one")
+            "reliably once posed. Select all its parts (the button below the object's name) to mark the character as one")
 
 
 def welded(mesh, weld: bool):
