@@ -59,7 +59,7 @@ class MESHMARK_OT_study(Base, bpy.types.Operator):
                 + (f", {words.plural(failed, 'task')} failed" if failed else "")
                 + (f", {mesh_error} could not take the method or attack" if mesh_error else "")
                 + f"; results in {out}")
-        return Outcome(study_task.STUDY, [], "WARNING" if failed else "INFO", text, {"ok": True, **d})
+        return Outcome(study_task.STUDY, [], "WARNING" if failed else "INFO", text, d)
 
     def invoke(self, context, event):
         self._modal = True
