@@ -13,7 +13,12 @@ older Blender's Python must import meshmark itself (e.g. PYTHONPATH).
 On Linux the wheel is repaired with auditwheel (SuiteSparse/CHOLMOD, METIS, OpenBLAS, gfortran and
 libgomp copied into the wheel with their RPATHs rewritten, tag manylinux_2_X), so the extension runs
 without Debian's libraries; docs/security.md ("Portable builds") says how cibuildwheel does the same
-with delocate (macOS) and delvewheel (Windows). A normal build also writes the legacy zip.
+with delocate (macOS) and delvewheel (Windows). Beside it go binary wheels of every package meshmark
+imports at run time (:func:`runtime_packages`: scipy, scikit-learn, pyarrow, cryptography, click,
+tqdm and what they need, at the versions of this environment), listed in the manifest's ``wheels``,
+so every operator (steganalysis, Run study, Hide) works in a Blender that has only its own Python and
+numpy; ``pip check`` over the installed extension passes (tests/test_portable_extension.py).
+A normal build also writes the legacy zip.
 The manifest is validated, and the zip built, by Blender's own extension tool (`blender_ext.py`, the
 code behind `blender --command extension validate|build`), found in the bpy module or a Blender
 binary; without either the zip is built with zipfile and only the TOML is parsed.
@@ -92,30 +97,56 @@ def repair_wheel(wheel: str, out: str) -> str:
     return wheels[0]
 
 
-#: Runtime dependencies of the add-on's features that the bpy wheel and Blender do not ship: the
-#: steganography operators encrypt with ``cryptography`` (AES-GCM, scrypt), which needs cffi and
-#: pycparser. Bundled as wheels at the versions of the building environment (binary wheels only,
-#: Python 3.11 manylinux on Linux). Steganalysis (scikit-learn) and studies (pyarrow, run in a
-#: separate Python) are not bundled: their operators name the missing package.
-DEPENDENCY_WHEELS = ("cryptography", "cffi", "pycparser")
+#: Packages Blender itself ships (its Python has numpy): not bundled, and the bundled packages must
+#: accept Blender's version of them (the build environment's versions are: bpy 5.0.1 needs numpy < 2).
+BLENDER_PROVIDED = ("numpy",)
+MARKERS = {"python_version": "3.11", "python_full_version": "3.11.0", "sys_platform": "linux",
+           "platform_system": "Linux", "os_name": "posix", "platform_machine": "x86_64",
+           "implementation_name": "cpython", "platform_python_implementation": "CPython", "extra": ""}
+
+
+def runtime_packages(root: str = "meshmark") -> dict:
+    """Every package ``root`` needs at run time, recursively (its ``Requires-Dist`` for CPython 3.11 on
+    Linux), without :data:`BLENDER_PROVIDED`: name -> the version installed here (what the tests ran
+    with, so the set is consistent: ``pip check`` passes)."""
+    from importlib.metadata import PackageNotFoundError, requires, version
+    from packaging.requirements import Requirement
+    found, todo = {}, [root]
+    while todo:
+        for r in requires(todo.pop()) or []:
+            q = Requirement(r)
+            name = q.name.lower().replace("_", "-")
+            if (q.marker and not q.marker.evaluate(MARKERS)) or name in found or name in BLENDER_PROVIDED:
+                continue
+            try:
+                found[name] = version(q.name)
+            except PackageNotFoundError:
+                raise SystemExit(f"build_extension: {q.name} (needed by meshmark) is not installed here") from None
+            todo.append(q.name)
+    return found
 
 
 def dependency_wheels(out: str, platform_tag: str) -> list:
-    """pip download of :data:`DEPENDENCY_WHEELS` for ``platform_tag`` (the meshmark wheel's): their paths."""
-    from importlib.metadata import version
+    """Binary wheels of every :func:`runtime_packages` for the meshmark wheel's platform and CPython
+    3.11 (pip download --only-binary): their paths. The extension bundles them all, so every
+    operator works in a Blender that has nothing but its own Python and numpy."""
     os.makedirs(out, exist_ok=True)
     plat = []
     if platform_tag.startswith("linux"):
         plat = ["--platform", "manylinux_2_34_x86_64", "--platform", "manylinux_2_28_x86_64",
                 "--platform", "manylinux_2_17_x86_64", "--platform", "manylinux2014_x86_64"]
-    reqs = [f"{n}=={version(n)}" for n in DEPENDENCY_WHEELS]
+    pkgs = runtime_packages()
+    reqs = [f"{n}=={v}" for n, v in pkgs.items()]
     subprocess.run([sys.executable, "-m", "pip", "download", "-q", "--no-deps", "--only-binary=:all:",
                     "--python-version", "3.11", "--implementation", "cp", *plat, "-d", out, *reqs], check=True)
     found = []
-    for n in DEPENDENCY_WHEELS:
-        w = sorted(glob.glob(os.path.join(out, f"{n}-{version(n)}-*.whl")))
+    for n, v in pkgs.items():
+        stem = re.sub(r"[-_.]+", "_", n)
+        w = sorted(p for p in glob.glob(os.path.join(out, "*.whl"))
+                   if re.sub(r"[-_.]+", "_", os.path.basename(p).split("-")[0]).lower() == stem
+                   and os.path.basename(p).split("-")[1] == v)
         if not w:
-            raise SystemExit(f"build_extension: no wheel of {n} {version(n)} downloaded")
+            raise SystemExit(f"build_extension: no wheel of {n} {v} downloaded")
         found.append(w[-1])
     return found
 
@@ -153,9 +184,9 @@ import bpy
 bpy.ops.extensions.package_install_files(filepath={zip!r}, repo="user_default", enable_on_install=True)
 import meshmark
 assert meshmark.__file__.startswith({user!r}), meshmark.__file__  # the extension's own wheel
+from bl_ext.user_default.meshmark import api  # the pipeline API of the installed extension
 bpy.ops.mesh.primitive_monkey_add()
-bpy.ops.meshmark.capacity(K=20, n_thr=4)
-print("check_extension:", bpy.context.scene.meshmark.last_result, "from", meshmark.__file__)
+print("check_extension:", api.capacity(message="M").text, "from", meshmark.__file__)
 """
 
 

@@ -91,7 +91,8 @@ def main():
     rows = rigs.last_result()["rows"]
     t_plot = best(lambda: study.write_plot(rows, os.path.join(out, "p.png"), "bench"), a.repeat)
     from meshmark_blender import panels
-    meshmark_blender.operators.CAPACITY_CACHE.clear()
+    from meshmark_blender import session
+    session.CACHE.clear()
 
     def draw_all():
         for cls in panels._registered:
@@ -116,7 +117,8 @@ def bench_new(obj, m, repeat):
     from meshmark import stego
     from meshmark.steganalysis.model import Model
     from meshmark.study import engine
-    from meshmark_blender import bridge, hiding_ops
+    from meshmark_blender import bridge
+    from meshmark_blender.tasks import inspect as hiding_ops
     rigs.select_only(obj)
     V0 = rigs.base_coords(obj).copy()
     base = bridge.base_mesh(obj)
@@ -125,7 +127,7 @@ def bench_new(obj, m, repeat):
     def op_hide():
         obj.data.vertices.foreach_set("co", V0.ravel())
         obj.data.update()
-        bpy.ops.meshmark.stego_embed(text=text, key="k")
+        bpy.ops.meshmark.stego_embed(message=text, key="k")
     t_op_h = best(op_hide, repeat)
     marked = bridge.base_mesh(obj)
     t_nat_h = best(lambda: stego.embed(base, text, "k", precision="float32"), repeat)
@@ -143,7 +145,7 @@ def bench_new(obj, m, repeat):
     with open(spec, "w") as f:
         f.write(rigs.study_spec(rigs.shared_mesh("classic/fandisk.obj"), seeds=(0, 1, 2), name="bench", attacks=[
             'name = "noise"\ngrid = { strength = [0.001] }', 'name = "smooth"\ngrid = { iterations = [5] }', 'name = "reorder"']))
-    t_op_s = best(lambda: bpy.ops.meshmark.study(spec=spec, output_dir=tempfile.mkdtemp()), repeat)
+    t_op_s = best(lambda: bpy.ops.meshmark.study(spec=spec, out=tempfile.mkdtemp()), repeat)
     assert rigs.last_result()["summary"]["ok"] == 12, rigs.last_result()
     # the same run in this process (workers=0, as the runner does in its own process)
     t_nat_s = best(lambda: engine.run(spec, tempfile.mkdtemp(), workers=0, progress=False, log=lambda t: None), repeat)

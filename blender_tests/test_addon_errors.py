@@ -94,16 +94,16 @@ def test_mesh_too_small(addon, tmp_path):
 
 def test_message_longer_than_capacity(elephant, tmp_path):
     V0 = _coords(elephant)
-    # the thesis parameters (Settings: Custom, or params_mode="thesis"): 44 carriers; 72 data + 20 check
+    # the thesis parameters (Settings: Custom, or params="thesis"): 44 carriers; 72 data + 20 check
     # bits need 138 (docs/coding.md)
     err = _fails(bpy.ops.meshmark.embed, "the mesh can carry 44 bits", message="ACME 2024", key="k",
-                 keyfile=str(tmp_path / "k.json"), params_mode="thesis")
+                 keyfile=str(tmp_path / "k.json"), params="thesis")
     assert "needs 138 bits" in err and "(Bins 286, Min. pair size 46)" in err and "at most 1 bytes of text fit" in err
     assert err.startswith("message too long for this mesh")
     _fails(bpy.ops.meshmark.embed, "at most 31 bytes", message="x" * 40, key="k", keyfile=str(tmp_path / "k.json"))
     _fails(bpy.ops.meshmark.embed, "message is empty", message="", key="k", keyfile=str(tmp_path / "k.json"))
     _fails(bpy.ops.meshmark.embed, "key is empty", message="E", key="", keyfile=str(tmp_path / "k.json"))
-    _fails(bpy.ops.meshmark.embed, "directory does not exist", message="E", key="k",
+    _fails(bpy.ops.meshmark.embed, "folder does not exist", message="E", key="k",
            keyfile=str(tmp_path / "missing" / "k.json"))
     assert np.array_equal(_coords(elephant), V0)
     assert not (tmp_path / "k.json").exists()
@@ -121,7 +121,7 @@ def test_keyfile_wrong_or_corrupt(elephant, tmp_path):
     kf = tmp_path / "k.json"
     assert bpy.ops.meshmark.embed(message="E", key="k", keyfile=str(kf)) == {"FINISHED"}
     V1 = _coords(elephant)
-    _fails(bpy.ops.meshmark.verify, "cannot read keyfile", keyfile=str(tmp_path / "none.json"))
+    _fails(bpy.ops.meshmark.verify, "there is no keyfile", keyfile=str(tmp_path / "none.json"))
     bad = tmp_path / "bad.json"
     bad.write_text('{"format": "meshmark-keyfile", "version": 1, "meth')
     _fails(bpy.ops.meshmark.verify, "not valid JSON", keyfile=str(bad))
@@ -149,7 +149,7 @@ def test_verify_on_a_different_mesh(elephant, tmp_path):
     A0 = _coords(arm)
     err = _fails(bpy.ops.meshmark.verify, "has 20482 vertices but the keyfile was made for a mesh of 20007",
                  keyfile=str(kf))
-    assert "verify is run on a different mesh" in err
+    assert "Verify is run on a different mesh" in err
     r = last_result()  # the figures are kept with the error
     assert (r["n_vertices"], r["expected_vertices"], r["detected"], r["message"]) == (20482, 20007, False, None)
     assert r["p_false_alarm"] > 1e-6 and r["cdr"] < 0.8

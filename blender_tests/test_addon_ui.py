@@ -56,7 +56,7 @@ def test_panels_draw_with_and_without_a_mesh(addon):
                        "meshmark.deformation_study", "meshmark.study"]
     props = [i.detail for items in d.values() for i in items if i.kind == "prop"]
     assert props.count("keyfile") == 1  # one keyfile field
-    assert {"method", "message", "key", "evaluated", "show_advanced", "frame_start", "output_dir"} <= set(props)
+    assert {"method", "message", "key", "evaluated", "show_advanced", "frames_auto", "output_dir"} <= set(props)
     assert "K" not in props and "weld" not in props  # under the Advanced fold, closed by default
     s = bpy.context.scene.meshmark
     assert (s.method, s.param_mode, s.params.laplacian.K, s.params.laplacian.n_thr) == ("laplacian", "AUTO", 0, 46)
@@ -68,7 +68,14 @@ def test_panels_draw_with_and_without_a_mesh(addon):
     # here); Custom shows the fields' capacity (the published numbers with the carrier field, "local": 77 carriers, 3 bytes with the keyed check)
     assert ["Automatic settings", "Fits 31 bytes of text"] == [t for t in _texts(d, "label") if "utomatic" in t or "Fits" in t]
     _no_truncation(d)
+    # Custom starts from what Auto would use for the message ("meshmark": 64 bits need 126 carriers; the
+    # third rung, N/35 bins, is the first with as many: 156), so switching changes nothing until a field
+    # is edited
     s.param_mode = "CUSTOM"
+    assert (s.params.laplacian.K, s.params.laplacian.n_thr, s.params.laplacian.n_robust) == (572, 23, 2)
+    d = _draw(bpy.context)
+    assert ["Capacity 156 bits", "Fits 10 bytes of text"] == [t for t in _texts(d, "label") if "apacity" in t or "Fits" in t]
+    s.params.laplacian.K, s.params.laplacian.n_thr, s.params.laplacian.n_robust = 0, 46, 5  # the thesis numbers
     d = _draw(bpy.context)
     assert ["Capacity 77 bits", "Fits 3 bytes of text"] == [t for t in _texts(d, "label") if "apacity" in t or "Fits" in t]
     s.param_mode = "AUTO"
@@ -76,18 +83,25 @@ def test_panels_draw_with_and_without_a_mesh(addon):
     assert "Mesh too small to" in _texts(_draw(bpy.context), "label")  # said (wrapped), not raised
 
 
-def test_advanced_fold_shows_only_the_chosen_methods_settings(addon):
+def test_advanced_fold_shows_only_the_chosen_methods_settings(addon, tmp_path):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
     s = bpy.context.scene.meshmark
     s.show_advanced = True
     d = _draw(bpy.context)
     labels = _texts(d, "label")
-    assert "Chosen: Bins 286, Min. pair" in labels  # Auto: the settings chosen for the mesh, wrapped
+    i = labels.index("Embed will use:")  # Auto: what Embed will use for the message
+    assert labels[i + 1:i + 4] == ["Bins 572", "Min. pair size 23", "Lightness 2"]
+    from meshmark_blender import targets
+    from meshmark_blender.tasks.watermark import plan
+    want = plan(targets.Target([bpy.context.active_object]), "laplacian", s.message)["params"]
+    assert (want["K"], want["n_thr"], want["n_robust"]) == (572, 23, 2)  # the choice Embed makes
+    assert bpy.ops.meshmark.embed(key="k", keyfile=str(tmp_path / "k.json")) == {"FINISHED"}
+    assert {k: last_result()["params"][k] for k in ("K", "n_thr", "n_robust")} == {"K": 572, "n_thr": 23, "n_robust": 2}
     assert [i.text for i in d["Watermark"] if i.detail == "param_mode"] == ["Auto", "Custom"]
     _no_truncation(d)
     s.param_mode = "CUSTOM"
-    expected = {"laplacian": ["K", "n_thr", "n_robust", "eps", "thesis_exact", "solver"],
+    expected = {"laplacian": ["K", "n_thr", "n_robust", "thesis_exact", "solver"],  # eps: not for artists
                 "radial": ["K", "n_thr", "origin_mode", "origin_iters"],
                 "cho-mean": ["K", "alpha", "delta_k", "guard", "center_iters", "thesis_exact"],
                 "cho-variance": ["K", "alpha", "delta_k", "guard", "center_iters", "thesis_exact"]}
@@ -126,7 +140,7 @@ def test_result_is_drawn_for_its_object_only(addon, tmp_path):
     bpy.ops.meshmark.embed(message="E", key="k", keyfile=str(tmp_path / "k.json"))
     bpy.ops.meshmark.verify()  # the keyfile comes from the settings Embed filled in
     labels = _texts(_draw(bpy.context), "label")
-    assert {"Mark found", "Bits matching 100.0%", "Message: E"} <= set(labels)
+    assert {"Mark found", "Bits matching 100%", "Message: E"} <= set(labels)
     assert last_result()["operator"] == "meshmark.verify" and last_result()["object"] == "elephant"
     cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
     bpy.context.scene.collection.objects.link(cam)
@@ -147,11 +161,12 @@ def test_embed_side_panel_repeats_no_fields(addon, tmp_path):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
     import types
-    from meshmark_blender import operators
+    from meshmark_blender.operators import watermark
     rec = ui_layout.RecordingLayout()
-    op = types.SimpleNamespace(layout=rec, bits="", properties=types.SimpleNamespace(is_property_set=lambda n: False),
+    op = types.SimpleNamespace(layout=rec, bits="", confirm=False,
+                               properties=types.SimpleNamespace(is_property_set=lambda n: False),
                                arg=lambda context, n: getattr(context.scene.meshmark, n))
-    operators.MESHMARK_OT_embed.draw(op, bpy.context)
+    watermark.MESHMARK_OT_embed.draw(op, bpy.context)
     items = ui_layout.measure(rec, 200)
     assert [i.kind for i in items] == ["label"] * 4
     assert [i.text for i in items] == ["elephant", "Laplacian", "8-byte message", "Key: missing"]
@@ -191,7 +206,7 @@ def test_every_result_and_capacity_text_fits(addon, tmp_path, monkeypatch):
     from meshmark_blender import panels
     bpy.ops.wm.read_factory_settings(use_empty=True)
     rigs.mesh_object("elephant", mesh=meshmark.read_mesh(rigs.shared_mesh("classic/elephant.off")))
-    monkeypatch.setattr(panels, "AUTO_CAPACITY_MAX_VERTICES", 1000)
+    monkeypatch.setattr(panels.watermark, "AUTO_CAPACITY_MAX_VERTICES", 1000)
     d = _draw(bpy.context)
     assert "Capacity not counted" in _texts(d, "label")  # beside the refresh button
     _no_truncation(d)
@@ -201,7 +216,7 @@ def test_every_result_and_capacity_text_fits(addon, tmp_path, monkeypatch):
     _no_truncation(d)
     with pytest.raises(RuntimeError):
         bpy.ops.meshmark.embed(message="a much longer text", key="k", keyfile=str(tmp_path / "k.json"),
-                               params_mode="thesis", overwrite=True)  # consent given: it fails on the length
+                               params="thesis", overwrite=True)  # consent given: it fails on the length
     d = _draw(bpy.context)
     err = last_result()["error"]
     labels = _texts(d, "label")
@@ -225,7 +240,7 @@ def test_friendly_errors():
         "nothing was changed. Try other settings under Advanced")
     assert friendly("the message is 40 bytes (320 bits); at most 31 bytes fit a frame") == \
         "message too long: 40 bytes, at most 31 bytes fit in a mark"
-    assert friendly("n_robust must be >= 1, got 0", "laplacian") == "Subtlety must be >= 1, got 0"
+    assert friendly("n_robust must be >= 1, got 0", "laplacian") == "Lightness must be >= 1, got 0"
     assert friendly("alpha must be in (0, 0.5) for the cho-mean method, got 0.7") == \
         "Strength must be in (0, 0.5) for the cho-mean method, got 0.7"
     # names inside paths and words are left alone

@@ -78,3 +78,12 @@ def test_embed_is_one_undo_step_in_a_window(env, tmp_path):
     assert steps["redo"]["identical_to_embedded"] is True
     assert steps["undo again"]["identical_to_unmarked"] is True
     assert (steps["verify after redo"]["detected"], steps["verify after redo"]["cdr"]) == (True, 1.0)
+    # Embed then Verify, one Ctrl+Z: the unmarked mesh bit for bit (Verify pushes no undo step); the
+    # Key and Keyfile fields are the same after undo and redo; two objects marked one after the other
+    # have two keyfiles, and both verify
+    u = steps["embed, verify, undo once"]
+    assert u["verified"] is True and u["identical_to_unmarked"] is True and u["differs_from_marked"] > 60000
+    assert u["fields_before"] == u["fields_after_undo"] == ["undo-key", "//HeroB.meshmark.json"]
+    two = steps["two objects, two keyfiles"]
+    assert two["files"] == ["HeroA.meshmark.json", "HeroB.meshmark.json"]
+    assert two["verified"] == {"HeroA": [True, "U"], "HeroB": [True, "U"]}

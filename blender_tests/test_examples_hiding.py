@@ -11,7 +11,7 @@ from meshmark.steganalysis.model import Model
 
 def test_stego_examples(tmp_path):
     blend = tmp_path / "hidden.blend"
-    r, out = _run("blender_stego_embed.py", "--out", blend, "--text", "under the bridge")
+    r, out = _run("blender_stego_embed.py", "--out", blend, "--message", "under the bridge")
     assert (r["operator"], r["bytes"], r["read_back"], r["precision"]) == ("meshmark.stego_embed", 16, True, "float32")
     assert b"example-key" not in blend.read_bytes()
     r, out = _run("blender_stego_extract.py", "--blend", blend)

@@ -17,7 +17,7 @@ from blender_tests import rigs
 from blender_tests.rigs import last_result
 
 OPS = ("stego_embed", "stego_extract", "analyze", "steganalysis_detect")
-ARGS = {"stego_embed": dict(text="hello", key="k"), "stego_extract": dict(key="k"), "analyze": {},
+ARGS = {"stego_embed": dict(message="hello", key="k"), "stego_extract": dict(key="k"), "analyze": {},
         "steganalysis_detect": {}}
 
 
@@ -70,11 +70,11 @@ def test_stego_message_too_long_and_empty(fandisk, tmp_path):
     room = stego.capacity(meshmark.Mesh.from_polygons(rigs.base_coords(fandisk).astype(np.float64),
                                                       *rigs.bridge_faces(fandisk)), tolerance=1.0,
                           precision="float32")["max_message_bytes"]
-    err = _fails("stego_embed", "too much to hide", text="x" * (room + 1), key="k")
+    err = _fails("stego_embed", "too much to hide", message="x" * (room + 1), key="k")
     assert f"{room + 1} bytes, at most {room} bytes fit" in err
-    _fails("stego_embed", "text is empty", text="", key="k")
-    _fails("stego_embed", "key is empty", text="x", key="")
-    _fails("stego_embed", "does not exist", filepath=str(tmp_path / "nope.bin"), key="k")
+    _fails("stego_embed", "text is empty", message="", key="k")
+    _fails("stego_embed", "key is empty", message="x", key="")
+    _fails("stego_embed", "does not exist", message_file=str(tmp_path / "nope.bin"), key="k")
     _fails("stego_extract", "key is empty", key="")
     assert _state(fandisk) == s0
 
@@ -83,15 +83,15 @@ def test_stego_refuses_when_the_stored_mesh_would_not_decode(fandisk, monkeypatc
     """The read-back check: if the mesh as Blender stores it does not give the message back, every
     coordinate is put back (simulated with an extract that finds nothing)."""
     s0 = _state(fandisk)
-    from meshmark_blender import hiding_ops
-    monkeypatch.setattr(hiding_ops.stego, "extract", lambda *a, **k: stego.ExtractResult(False, None, "damaged message"))
-    assert "would not read back" in _fails("stego_embed", "would not read back", text="hello", key="k")
+    from meshmark_blender.tasks import hiding
+    monkeypatch.setattr(hiding.stego, "extract", lambda *a, **k: stego.ExtractResult(False, None, "damaged message"))
+    assert "would not read back" in _fails("stego_embed", "would not read back", message="hello", key="k")
     assert _state(fandisk) == s0
 
 
 def test_stego_round_trip_through_float32_and_a_blend(fandisk, tmp_path):
     s0 = _state(fandisk)
-    assert bpy.ops.meshmark.stego_embed(text="Grüße aus Blender", key="secret") == {"FINISHED"}
+    assert bpy.ops.meshmark.stego_embed(message="Grüße aus Blender", key="secret") == {"FINISHED"}
     r = last_result()
     assert r["ok"] and r["read_back"] and r["bytes"] == len("Grüße aus Blender".encode()) and r["precision"] == "float32"
     V = rigs.base_coords(fandisk)
@@ -121,16 +121,16 @@ def test_stego_file_payload_and_panel_settings(fandisk, tmp_path):
     s.stego_source, s.stego_file = "FILE", str(src)
     assert bpy.ops.meshmark.stego_embed() == {"FINISHED"}
     r = last_result()
-    assert (r["bytes"], r["file"], r["tolerance"], r["spread"]) == (768, "secret.bin", 2.0, "curvature")
+    assert (r["bytes"], r["file"], r["tolerance_deg"], r["adaptive"]) == (768, "secret.bin", 2.0, "curvature")
     out = tmp_path / "out.bin"
-    assert bpy.ops.meshmark.stego_extract(filepath=str(out)) == {"FINISHED"}
+    assert bpy.ops.meshmark.stego_extract(out_file=str(out)) == {"FINISHED"}
     assert out.read_bytes() == src.read_bytes() and last_result()["text"] is None
     s.stego_mode = "AUTO"  # Auto: 1 deg, even: another setting, nothing found
     assert bpy.ops.meshmark.stego_extract() == {"FINISHED"} and last_result()["found"] is False
 
 
 def test_analyze_attribute_equals_the_analysis_levels(fandisk):
-    from meshmark_blender import bridge, hiding_ops
+    from meshmark_blender import bridge, heatmap as hiding_ops
     s0 = _state(fandisk)
     assert bpy.ops.meshmark.analyze() == {"FINISHED"}
     r = last_result()
@@ -194,16 +194,16 @@ def test_study_runs_a_spec_and_reports_bad_specs(addon, tmp_path):
     spec = tmp_path / "s.toml"
     spec.write_text(rigs.study_spec(rigs.shared_mesh("classic/fandisk.obj"), attacks=['name = "noise"\ngrid = { strength = [0.001] }']))
     out = tmp_path / "out"
-    assert bpy.ops.meshmark.study(spec=str(spec), output_dir=str(out)) == {"FINISHED"}
+    assert bpy.ops.meshmark.study(spec=str(spec), out=str(out)) == {"FINISHED"}
     r = last_result()
     assert r["ok"] and r["planned"] == 2 and r["done"] == 2 and r["summary"]["ok"] == 2
     from meshmark.study import engine
     assert len(engine.finished_keys(out)) == 2 and os.path.isdir(r["results"])
-    assert bpy.ops.meshmark.study(spec=str(spec), output_dir=str(out)) == {"FINISHED"}  # resumed: nothing to do
+    assert bpy.ops.meshmark.study(spec=str(spec), out=str(out)) == {"FINISHED"}  # resumed: nothing to do
     assert last_result()["summary"]["skipped"] == 2
     bad = tmp_path / "bad.toml"
     bad.write_text(spec.read_text().replace('name = "cho-mean"', 'name = "no-such-method"'))
-    assert "no-such-method" in _fails("study", "no-such-method", spec=str(bad), output_dir=str(tmp_path / "o2"))
-    _fails("study", "does not exist", spec=str(tmp_path / "none.toml"), output_dir=str(out))
+    assert "no-such-method" in _fails("study", "no-such-method", spec=str(bad), out=str(tmp_path / "o2"))
+    _fails("study", "does not exist", spec=str(tmp_path / "none.toml"), out=str(out))
     bpy.context.scene.meshmark.study_spec = ""
-    _fails("study", "choose the study spec")
+    _fails("study", "choose the study file")

@@ -15,7 +15,7 @@ def test_issue_copies_and_trace_one(addon, tmp_path):
     co0 = np.empty(3 * len(obj.data.vertices), np.float32)
     obj.data.vertices.foreach_get("co", co0)
     reg = str(tmp_path / "r.sqlite")
-    assert bpy.ops.meshmark.issue_copies(copies=3, key="studio", registry=reg, directory=str(tmp_path)) == {"FINISHED"}
+    assert bpy.ops.meshmark.issue_copies(copies=3, key="studio", registry=reg, output_dir=str(tmp_path)) == {"FINISHED"}
     made = json.loads(bpy.context.scene.meshmark.last_result)["copies"]
     assert [c["id"] for c in made] == ["0001", "0002", "0003"]
     co1 = np.empty_like(co0)

@@ -141,7 +141,7 @@ class RecordingLayout:
         assert isinstance(text, str)
         s = scale()
         icon_w = UNIT * s if icon != "NONE" else 0.0
-        it = Item("label", text, (text_width(text) + 2 * LABEL_PAD * s if text else 0.0) + icon_w)
+        it = Item("label", text, (text_width(text) + 2 * LABEL_PAD * s if text else 0.0) + icon_w, icon)
         it.icon_only = not text
         self.children.append(it)
         if self._real is not None:

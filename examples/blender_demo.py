@@ -228,7 +228,7 @@ def main(argv=None):
         t = time.perf_counter()
         # automatic parameters (the add-on's default, meshmark.watermark.auto): no search of our own;
         # the demo's own keyfile in --out is replaced on a re-run, a --keyfile given is never replaced
-        bpy.ops.meshmark.embed(method="laplacian", message=a.message, key=a.key, keyfile=keyfile, params_mode="auto",
+        bpy.ops.meshmark.embed(method="laplacian", message=a.message, key=a.key, keyfile=keyfile, params="auto",
                                overwrite=not a.keyfile)
         e = result()
         log(f"embedded {a.message!r} in {time.perf_counter() - t:.2f} s: {e['capacity']} carrier bits, "

@@ -14,7 +14,7 @@ ap.add_argument("--spec", required=True, help="a study spec (.toml, docs/studies
 ap.add_argument("--out", required=True, help="folder for the results")
 a = ap.parse_args(argv())
 start()
-bpy.ops.meshmark.study(spec=a.spec, output_dir=a.out)
+bpy.ops.meshmark.study(spec=a.spec, out=a.out)
 r = result()
 s = r["summary"]
 print(f"study: {s['ok']} ok, {s['mesh_error']} mesh errors, {s['failed']} failed of {r['planned']}; results in {r['results']}")

@@ -1,7 +1,9 @@
 """The Blender extension is portable (issue 11): its wheel is repaired by auditwheel to a manylinux
 tag, the zip installs into a fresh virtual environment that holds only the bpy wheel (and what bpy
 itself requires), every library of the installed native module resolves to the wheel's own folder or
-to the base system, and the installed add-on embeds and verifies. The legacy Blender 3.x package is
+to the base system, every operator of the installed add-on runs (Run study included, with the
+pyarrow and scikit-learn it brings), ``pip check`` passes over its packages, and a new Blender process
+enables it by its module name ``bl_ext.user_default.meshmark``. The legacy Blender 3.x package is
 a zip whose single top-level folder is the add-on.
 
 Runtime: the wheel is built in the bootstrap's build tree (nothing recompiled) and the fresh bpy
@@ -30,22 +32,52 @@ import meshmark, meshmark._core
 assert meshmark.__file__.startswith(user), meshmark.__file__
 so = meshmark._core.__file__
 ldd = subprocess.run(["ldd", so], capture_output=True, text=True, check=True).stdout
+bpy.ops.wm.save_as_mainfile(filepath=os.path.join(user, "scene.blend"))  # '//' is the user folder
 bpy.ops.mesh.primitive_monkey_add()
 bpy.ops.object.modifier_add(type="SUBSURF")
 bpy.context.object.modifiers[0].levels = 2
 bpy.ops.object.modifier_apply(modifier=bpy.context.object.modifiers[0].name)
-kf = os.path.join(user, "k.json")
-assert bpy.ops.meshmark.embed(message="P", key="portable", method="cho-mean", keyfile=kf) == {"FINISHED"}
-assert bpy.ops.meshmark.verify(keyfile=kf) == {"FINISHED"}
-r = json.loads(bpy.context.scene.meshmark.last_result)
-import cryptography  # bundled with the extension: steganography works in a bare Blender
-assert cryptography.__file__.startswith(user), cryptography.__file__
-assert bpy.ops.meshmark.stego_embed(text="bundled", key="portable") == {"FINISHED"}
-assert bpy.ops.meshmark.stego_extract(key="portable") == {"FINISHED"}
-st = json.loads(bpy.context.scene.meshmark.last_result)
-print("RESULT " + json.dumps({"so": so, "ldd": ldd, "detected": r["detected"], "message": r["message"],
-                              "stego_text": st.get("text"),
+ran = {}
+def op(name, **kw):
+    ran[name] = sorted(getattr(bpy.ops.meshmark, name)(**kw))
+    return json.loads(bpy.context.scene.meshmark.last_result)
+bpy.context.scene.meshmark.key = "portable"
+op("capacity", method="cho-mean", message="P")
+r = op("embed", message="P", method="cho-mean")  # keyfile //Suzanne.meshmark.json
+assert r["keyfile"] == os.path.join(user, "Suzanne.meshmark.json"), r["keyfile"]
+v = op("verify")
+op("save_keyfile", filepath=os.path.join(user, "copy.json"))
+op("load_keyfile", filepath=os.path.join(user, "copy.json"))
+op("select_parts") if bpy.ops.meshmark.select_parts.poll() else None
+f = op("deformation_study", frame_start=1, frame_end=2, output_dir=os.path.join(user, "frames"))
+op("issue_copies", copies=2, registry="//copies.sqlite", output_dir="//copies")
+t = op("trace", registry="//copies.sqlite")
+bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=5, location=(3, 0, 0))
+op("stego_embed", message="bundled")
+st = op("stego_extract")
+op("analyze")
+d = op("steganalysis_detect")  # scikit-learn, bundled
+spec = os.path.join(user, "s.toml")
+open(spec, "w").write(sys.argv[2])
+sr = op("study", spec=spec, out=os.path.join(user, "study"))  # pyarrow, bundled; Blender's own Python
+import cryptography, sklearn, pyarrow  # bundled with the extension
+for m in (cryptography, sklearn, pyarrow):
+    assert m.__file__.startswith(user), m.__file__
+from bl_ext.user_default.meshmark import api  # the pipeline API, in the extension's namespace
+print("RESULT " + json.dumps({"so": so, "ldd": ldd, "detected": v["detected"], "message": v["message"],
+                              "stego_text": st.get("text"), "ran": ran, "frames": f["summary"]["detected_frames"],
+                              "trace": t["copy"], "state": d["state"], "study_ok": sr["summary"]["ok"],
+                              "study_planned": sr["planned"], "api": api.__name__,
                               "site": os.path.dirname(os.path.dirname(meshmark.__file__))}))
+"""
+# A new process: the extension installed above is enabled by its module name, then scripted.
+AGAIN = r"""
+import json, sys, addon_utils, bpy
+addon_utils.enable("bl_ext.user_default.meshmark", default_set=True)
+from bl_ext.user_default.meshmark import api
+bpy.ops.mesh.primitive_monkey_add()
+print("AGAIN " + json.dumps({"capacity": api.capacity(message="P", method="cho-mean").capacity,
+                             "operators": hasattr(bpy.ops.meshmark, "embed")}))
 """
 
 
@@ -127,13 +159,32 @@ def test_installs_in_fresh_bpy_venv_and_embeds(dist, tmp_path):
     user = tmp_path / "user"
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     env["BLENDER_USER_RESOURCES"] = str(user)
-    r = subprocess.run([str(py), "-c", CHECK, str(ext)], capture_output=True, text=True, env=env, cwd=tmp_path,
-                       timeout=600)
+    spec = ('[study]\nname = "portable"\nseeds = [0]\npayload_bits = 8\n[meshes]\npaths = ["builtin:torus"]\n'
+            '[[methods]]\nname = "cho-mean"\n[[attacks]]\nname = "none"\n[measurements]\nlist = ["nc"]\n')
+    r = subprocess.run([str(py), "-c", CHECK, str(ext), spec], capture_output=True, text=True, env=env, cwd=tmp_path,
+                       timeout=900)
     line = [x for x in r.stdout.splitlines() if x.startswith("RESULT ")]
     assert r.returncode == 0 and line, r.stdout[-3000:] + r.stderr[-3000:]
     d = json.loads(line[0][7:])
     assert d["detected"] is True and d["message"] == "P"
-    assert d["stego_text"] == "bundled"
+    assert d["stego_text"] == "bundled" and d["frames"] == 2 and d["trace"] is None
+    assert d["state"] in ("marked", "clean", "cannot_judge") and d["study_ok"] == d["study_planned"] == 1
+    every = {"capacity", "embed", "verify", "save_keyfile", "load_keyfile", "deformation_study", "issue_copies",
+             "trace", "stego_embed", "stego_extract", "analyze", "steganalysis_detect", "study"}
+    assert every <= set(d["ran"]) and all(v == ["FINISHED"] for v in d["ran"].values()), d["ran"]
+    # every package the extension brings is consistent with what it runs beside (bpy's numpy)
+    pc = subprocess.run([str(py), "-m", "pip", "check"], capture_output=True, text=True,
+                        env={**env, "PYTHONPATH": d["site"]})
+    assert pc.returncode == 0, pc.stdout + pc.stderr
+    listed = subprocess.run([str(py), "-m", "pip", "list", "--path", d["site"], "--format=json"], capture_output=True,
+                            text=True, check=True).stdout
+    assert {"meshmark", "scipy", "scikit-learn", "pyarrow", "cryptography", "click", "tqdm"} <= \
+        {p["name"].lower() for p in json.loads(listed)}
+    # a new Blender process: enabled by its module name, scripted through its API
+    a = subprocess.run([str(py), "-c", AGAIN], capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300)
+    again = [x for x in a.stdout.splitlines() if x.startswith("AGAIN ")]
+    assert a.returncode == 0 and again, a.stdout[-2000:] + a.stderr[-2000:]
+    assert json.loads(again[0][6:]) == {"capacity": json.loads(again[0][6:])["capacity"], "operators": True}
     site = d["site"]
     for row in d["ldd"].splitlines():
         row = row.strip()

@@ -11,7 +11,11 @@ once the window is up (a ``bpy.app.timers`` callback, with a window/area/region 
 2. ``meshmark.embed`` called as a panel button calls it (with an undo push) -> coordinates changed (V1);
 3. a failing ``meshmark.embed`` (message too long) -> coordinates still V1, bit for bit;
 4. ``ed.undo`` once -> V0 bit for bit: embed is a single undo step and the failure added none;
-5. ``ed.redo`` -> V1 bit for bit; ``ed.undo`` -> V0 again.
+5. ``ed.redo`` -> V1 bit for bit; ``ed.undo`` -> V0 again;
+6. Embed, then Verify (as its button runs it), then ``ed.undo`` once -> V0 bit for bit (Verify pushes no
+   undo step); the Key field and each object's Keyfile field are the same after undo and redo (they
+   are session state, not scene data), and two objects marked one after the other keep their own
+   keyfiles (both verify).
 
 It writes the results as JSON to OUT.json and exits with status 0 if every check held, else 1.
 """
@@ -108,6 +112,52 @@ def run():
     r = json.loads(bpy.context.scene.meshmark.last_result)
     step("verify after redo", detected=r["detected"], cdr=r["cdr"], message=r["message"])
     assert r["detected"] and r["cdr"] == 1.0 and r["message"] == "M"
+    verify_then_undo()
+
+
+def verify_then_undo():
+    """Embed then Verify, one Ctrl+Z: the unmarked mesh; fields kept; two objects, two keyfiles."""
+    import rigs
+    folder = tempfile.mkdtemp()
+    bpy.ops.wm.save_as_mainfile(filepath=os.path.join(folder, "undo.blend"))  # '//' is this folder
+    def S():  # looked up again after every undo (undo reloads the scene)
+        return bpy.context.scene.meshmark
+    S().key, S().message = "undo-key", "U"
+    a = rigs.mesh_object("HeroA", mesh=rigs.jittered_arm(5))
+    b = rigs.mesh_object("HeroB", mesh=rigs.jittered_arm(6))
+    with gui_context():
+        bpy.ops.ed.undo_push(message="meshmark test: two unmarked heroes")
+        rigs.select_only(bpy.data.objects["HeroA"])
+        A0 = coords("HeroA")
+        assert bpy.ops.meshmark.embed("EXEC_DEFAULT", True) == {"FINISHED"}
+        rigs.select_only(bpy.data.objects["HeroB"])
+        B0 = coords("HeroB")
+        assert bpy.ops.meshmark.embed("EXEC_DEFAULT", True) == {"FINISHED"}
+        B1 = coords("HeroB")
+        assert bpy.ops.meshmark.verify("EXEC_DEFAULT", True) == {"FINISHED"}  # as its button runs it
+        verified = json.loads(S().last_result)["detected"]
+        fields = (S().key, S().keyfile)
+        assert bpy.ops.ed.undo() == {"FINISHED"}  # once: the Verify added no step, this undoes B's Embed
+        rigs.select_only(bpy.data.objects["HeroB"])
+        after = (S().key, S().keyfile)
+        B2 = coords("HeroB")
+        step("embed, verify, undo once", verified=verified, identical_to_unmarked=bool(np.array_equal(B2, B0)),
+             differs_from_marked=int((B2 != B1).sum()), fields_before=list(fields), fields_after_undo=list(after))
+        assert np.array_equal(B2, B0), "one undo after Embed then Verify did not restore the unmarked mesh"
+        assert after == fields == ("undo-key", "//HeroB.meshmark.json")
+        assert bpy.ops.ed.redo() == {"FINISHED"}
+        rigs.select_only(bpy.data.objects["HeroB"])
+        assert np.array_equal(coords("HeroB"), B1) and (S().key, S().keyfile) == fields
+    files = sorted(f for f in os.listdir(folder) if f.endswith(".meshmark.json"))
+    got = {}
+    for name in ("HeroA", "HeroB"):
+        rigs.select_only(bpy.data.objects[name])
+        assert S().keyfile == f"//{name}.meshmark.json"
+        bpy.ops.meshmark.verify()
+        r = json.loads(S().last_result)
+        got[name] = (r["detected"], r["message"])
+    step("two objects, two keyfiles", files=files, verified=got, a_marked=bool((coords("HeroA") != A0).any()))
+    assert files == ["HeroA.meshmark.json", "HeroB.meshmark.json"] and got == {"HeroA": (True, "U"), "HeroB": (True, "U")}
 
 
 def timer():

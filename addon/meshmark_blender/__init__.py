@@ -1,15 +1,23 @@
-"""meshmark for Blender: watermark a mesh from the 3D View sidebar, deform it, check the mark.
+"""meshmark for Blender: watermark a mesh (or a character of several parts) from the 3D View sidebar,
+pose it, check the mark; hide data; trace copies; run studies.
 
 The add-on only translates between Blender and the bpy-free ``meshmark`` package (the algorithms
-live there): :mod:`.bridge` moves coordinates between Blender meshes and numpy, :mod:`.properties`
-holds the settings (``scene.meshmark``), :mod:`.operators` the ``bpy.ops.meshmark.*`` operators,
-:mod:`.panels` the "Meshmark" sidebar tab, :mod:`.study` the bpy-free CSV/plot writer of the
-deformation study. Methods come from ``meshmark.watermark.METHODS``; their parameters and thesis
-defaults are read from the method, so a new method appears in the panel without add-on changes.
+live there). Layers, each importing only the ones above it:
 
-Packaging: an extension for Blender 4.2+ (``blender_manifest.toml``, the meshmark wheel under
-``wheels/``, built by ``addon/build_extension.py``) and, from the same files, a legacy add-on
-(``bl_info``) for older Blenders, which need ``meshmark`` importable on their Python path.
+* bpy-free: :mod:`.params` (method parameters and their labels), :mod:`.messages` and :mod:`.words`
+  (errors and figures in an artist's words), :mod:`.session` (what is kept for the session only),
+  :mod:`.study` (the frame check's CSV and plot), :mod:`.study_runner` (a study's own process);
+* Blender data: :mod:`.bridge` (meshes <-> numpy, the posed cage, the steganalysis verdict),
+  :mod:`.targets` (the objects one mark covers), :mod:`.keyfiles` (one keyfile per object),
+  :mod:`.heatmap`;
+* the work: :mod:`.tasks` (each task a generator of steps) and :mod:`.api` (the pipeline API over it);
+* the UI: :mod:`.properties` (``scene.meshmark``), :mod:`.operators` (``bpy.ops.meshmark.*``, thin over
+  the tasks) and :mod:`.panels` (the "Meshmark" sidebar tab), registered here.
+
+Packaging: an extension for Blender 4.2+ (``blender_manifest.toml``; the meshmark wheel and every
+package it imports under ``wheels/``, built by ``addon/build_extension.py``; module
+``bl_ext.<repository>.meshmark``) and, from the same files, a legacy add-on (``bl_info``) for older
+Blenders, which need ``meshmark`` importable on their Python path.
 """
 
 bl_info = {
@@ -22,11 +30,19 @@ bl_info = {
     "category": "Mesh",
 }
 
-if "bpy" in locals():  # "Reload Scripts": reload the submodules too
+_MODULES = ("params", "messages", "words", "session", "study", "bridge", "targets", "keyfiles", "heatmap",
+            "tasks.outcome", "tasks.watermark", "tasks.frames", "tasks.copies", "tasks.hiding", "tasks.inspect",
+            "tasks.study", "api", "properties", "operators.base", "operators.watermark", "operators.keyfile_ops",
+            "operators.copies", "operators.hiding", "operators.inspect_ops", "operators.study_ops", "operators",
+            "panels.layout", "panels.results", "panels.watermark", "panels.tasks", "panels")
+
+if "bpy" in locals():  # "Reload Scripts": reload the submodules too, in dependency order
     import importlib
-    for _m in ("bridge", "study", "params", "messages", "properties", "operators", "tracing_ops", "hiding_ops", "study_ops", "panels"):
-        if _m in locals():
-            importlib.reload(locals()[_m])
+    import sys
+    for _m in _MODULES:
+        _full = f"{__name__}.{_m}"
+        if _full in sys.modules:
+            importlib.reload(sys.modules[_full])
 
 import bpy  # noqa: E402
 
@@ -39,7 +55,7 @@ except ImportError as exc:  # report at register time instead of failing on impo
     _IMPORT_ERROR = exc
 
 if _IMPORT_ERROR is None:
-    from . import bridge, study, params, messages, properties, operators, panels  # noqa: E402,F401
+    from . import api, operators, panels, properties  # noqa: E402,F401
 
 
 def register():

@@ -1,6 +1,13 @@
 """Blender mesh data <-> numpy and meshmark.Mesh, with foreach_get/foreach_set only (no
-per-vertex Python). Coordinates are in object space, as Blender stores them (float32)."""
+per-vertex Python). Coordinates are in object space, as Blender stores them (float32).
+
+Also here: :func:`cage_only` (read a posed mesh through its deforming modifiers only, so that a live
+Subdivision does not change the vertices a mark was put in) and :func:`steganalysis_verdict` (the
+three states the panel shows for a steganalysis result).
+"""
 from __future__ import annotations
+
+import contextlib
 
 import bpy
 import numpy as np
@@ -8,7 +15,7 @@ import numpy as np
 import meshmark
 
 
-class BlenderInputError(Exception):
+class BlenderInputError(meshmark.MeshError):
     """Something about the Blender side (no object, wrong type, edit mode) that stops an operator."""
 
 
@@ -77,8 +84,51 @@ def base_mesh(obj) -> meshmark.Mesh:
     return meshmark.Mesh.from_polygons(base_coords(me).astype(np.float64), loops, offsets)
 
 
+# Modifiers that only move vertices (or set attributes, normals, UVs, weights): the evaluated mesh
+# keeps the base mesh's vertices, in order. Every other modifier (Subdivision, Mirror, Triangulate,
+# Geometry Nodes, ...) may add, remove or reconnect vertices.
+DEFORMING = frozenset({
+    "ARMATURE", "CAST", "CURVE", "DISPLACE", "HOOK", "LAPLACIANDEFORM", "LATTICE", "MESH_DEFORM", "SHRINKWRAP",
+    "SIMPLE_DEFORM", "SMOOTH", "CORRECTIVE_SMOOTH", "LAPLACIANSMOOTH", "SURFACE_DEFORM", "WARP", "WAVE",
+    "MESH_CACHE", "MESH_SEQUENCE_CACHE", "CLOTH", "SOFT_BODY", "COLLISION", "DYNAMIC_PAINT", "SURFACE",
+    "PARTICLE_SYSTEM", "DATA_TRANSFER", "NORMAL_EDIT", "WEIGHTED_NORMAL", "UV_PROJECT", "UV_WARP",
+    "VERTEX_WEIGHT_EDIT", "VERTEX_WEIGHT_MIX", "VERTEX_WEIGHT_PROXIMITY"})
+
+
+def reshaping_modifiers(obj) -> list:
+    """The modifiers of ``obj`` shown in the viewport that may change its vertices (not in :data:`DEFORMING`)."""
+    return [m for m in getattr(obj, "modifiers", ()) if m.show_viewport and m.type not in DEFORMING]
+
+
+@contextlib.contextmanager
+def cage_only(objects):
+    """Evaluate ``objects`` through their deforming modifiers only: modifiers that change the vertices
+    (:func:`reshaping_modifiers`) are switched off in the viewport for the ``with`` block and switched
+    back on after it, whatever happens. Yields the list of ``(object name, modifier name)`` left out.
+
+    The mark lives in the base mesh (the cage of a Subdivision); the armature, shape keys and lattices
+    move those vertices, and that posed cage is what verification reads."""
+    off = []
+    try:
+        for o in objects:
+            for m in reshaping_modifiers(o):
+                try:
+                    m.show_viewport = False
+                except (AttributeError, RuntimeError):  # a linked (library) object: leave it
+                    continue
+                off.append((o, m))
+        yield [(o.name, m.name) for o, m in off]
+    finally:
+        for o, m in off:
+            try:
+                m.show_viewport = True
+            except ReferenceError:  # pragma: no cover - deleted meanwhile
+                pass
+
+
 def evaluated_mesh(context, obj) -> meshmark.Mesh:
-    """The mesh as the depsgraph evaluates it now (armature, shape keys, lattice, other modifiers)."""
+    """The mesh as the depsgraph evaluates it now (armature, shape keys, lattice, other modifiers);
+    within :func:`cage_only`, through the deforming modifiers only."""
     dg = context.evaluated_depsgraph_get()
     ob_eval = obj.evaluated_get(dg)
     me = ob_eval.to_mesh()
@@ -150,3 +200,25 @@ def write_base_exact(obj, V32: np.ndarray) -> None:
     me.vertices.foreach_set("co", V32.ravel())
     me.update()
     obj.update_tag()
+
+
+# -- steganalysis: the panel's three states ------------------------------------------------------------
+# Smallest mesh the built-in detector learned from: its training covers start at an icosphere of two
+# midpoint subdivisions (162 vertices, meshmark.steganalysis.generated); below that its features say
+# nothing about the mesh.
+STEGANALYSIS_MIN_VERTICES = 162
+VERDICTS = ("marked", "clean", "cannot_judge")
+
+
+def steganalysis_verdict(result: dict, n_vertices: int) -> dict:
+    """Adapter from ``Model.detect``'s result to the panel's three states: ``{"state": "marked" | "clean"
+    | "cannot_judge", "why": "too_small" | "out_of_range" | ""}``.
+
+    Today's core says ``marked`` and, for a model with a guard, ``in_distribution``; "cannot judge" is
+    derived here (too few vertices, or features outside the model's training range). When the core
+    reports the outcome itself, read it here first (the one place to wire it)."""
+    if n_vertices < STEGANALYSIS_MIN_VERTICES:
+        return {"state": "cannot_judge", "why": "too_small"}
+    if result.get("in_distribution") is False:
+        return {"state": "cannot_judge", "why": "out_of_range"}
+    return {"state": "marked" if result.get("marked") else "clean", "why": ""}

@@ -82,4 +82,11 @@ def friendly(text: str, method: str | None = None) -> str:
     m = re.search(r"the mesh has (\d+) vertices?.*(?:too small|at least)", text)
     if m:
         return f"mesh too small: {m.group(1)} vertices"
-    return _rename(text, method)
+    return _rename(_unscript(text), method)
+
+
+def _unscript(text: str) -> str:
+    """The command line's and the Python API's option syntax out of a core text (the panel has fields)."""
+    text = re.sub(r"\s*\((?:give |use )?--[\w-]+[^)]*\)", "", text)
+    text = re.sub(r"pass [\w_]+=True(?: \([^)]*\))?", "confirm", text)
+    return re.sub(r"give --[\w-]+", "type it in the panel", text)

@@ -19,8 +19,8 @@ DESCRIPTIONS = {
                   "but each bit is easier to break. 0 = chosen from the mesh size"),
     "n_thr": ("Min. pair size", "Fewest vertices a pair of bins needs to carry a bit. Lower it to fit "
                                 "more on a small mesh; higher is sturdier"),
-    "n_robust": ("Subtlety", "Higher moves the mesh less, but the mark breaks more easily when the "
-                             "mesh is posed. 1 is the sturdiest"),
+    "n_robust": ("Lightness", "How lightly each bit touches the mesh: higher moves it less, but the mark "
+                              "breaks more easily when the mesh is posed. 1 is the sturdiest"),
     "eps": ("Stability", "A tiny safety term in the maths behind the mark. Leave it as it is"),
     "thesis_exact": ("As published", "Run the algorithm exactly as published, without meshmark's "
                                      "robustness fixes (for comparisons: the mark breaks more easily)"),
@@ -58,6 +58,8 @@ CHOICES = {
                                          "around it"),
                     ("vertices", "Vertices", "The mean of the vertices on one side of the mesh")],
 }
+# Parameters kept out of the panel (scripts can still pass them): nothing an artist should tune.
+HIDDEN = {"eps"}
 # Kind of a parameter whose default is None ("automatic"); int unless listed.
 AUTO_KINDS = {"guard": "float"}
 
@@ -127,6 +129,11 @@ def method_defaults(name: str) -> dict:
 
 def method_params(name: str) -> list:
     return [Param(k, v, name) for k, v in method_defaults(name).items()]
+
+
+def panel_params(name: str) -> list:
+    """The parameters the panel shows for method ``name`` (not :data:`HIDDEN`)."""
+    return [p for p in method_params(name) if p.name not in HIDDEN]
 
 
 def labels(method: str | None) -> dict:

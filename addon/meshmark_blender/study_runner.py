@@ -6,10 +6,25 @@ It prints one JSON object per line on stdout: ``{"planned": N, "todo": n}`` firs
 ``{"done": k}`` whenever more tasks have finished (``meshmark.study.engine.finished_keys`` on the
 output, polled by a thread: the engine's own progress is a log line every 10 s), and finally
 ``{"summary": {...}}`` or ``{"error": "..."}`` (exit 2 for a bad spec, 1 for anything else).
+
+The engine runs with one worker process and chunks of about a fortieth of the tasks: it writes each
+chunk's results as the chunk finishes, so the count of finished tasks grows during the run (run
+in-process, ``workers=0``, it computes every chunk before writing any, and the progress would sit at
+0 % until the end).
 """
 import json
+import os
+import signal
 import sys
 import threading
+
+
+def _stop(signum, frame):
+    """Terminated (Esc in Blender): end the worker process too, at once."""
+    import multiprocessing
+    for child in multiprocessing.active_children():
+        child.kill()
+    os._exit(128 + signum)
 
 
 def say(**d):
@@ -44,7 +59,9 @@ def main(spec_path, out):
     t = threading.Thread(target=poll, daemon=True)
     t.start()
     try:
-        s = engine.run(sp, out, workers=0, progress=False, log=lambda text: say(log=text))
+        todo = len(planned - before)
+        chunk = max(1, min(sp.chunk_size, -(-todo // 40)))
+        s = engine.run(sp, out, workers=1, progress=False, chunk_size=chunk, log=lambda text: say(log=text))
     except MeshError as exc:
         say(error=str(exc))
         return 2
@@ -57,6 +74,7 @@ def main(spec_path, out):
 
 
 if __name__ == "__main__":
+    signal.signal(signal.SIGTERM, _stop)
     if len(sys.argv) != 3:
         print(__doc__, file=sys.stderr)
         sys.exit(2)
