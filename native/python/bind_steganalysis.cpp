@@ -2,7 +2,11 @@
 
 #include "meshmark/feature_statistics.h"
 #include "meshmark/lfs76_features.h"
+#include "meshmark/lfs76s_features.h"
 #include "meshmark/nvt36_features.h"
+#include "meshmark/nvt36s_features.h"
+#include "meshmark/pca_min_corner_normalize.h"
+#include "meshmark/rusinkiewicz_curvatures.h"
 #include "meshmark/unit_cube_normalize.h"
 #include "meshmark/yang208_features.h"
 
@@ -24,9 +28,22 @@ void bind_steganalysis(py::module_& m) {
           py::gil_scoped_release release;
           return lfs76_features(V, T, dt, t_max);
         }, py::arg("V"), py::arg("T"), py::arg("dt") = 0.3, py::arg("t_max") = 3.0);
+  m.def("lfs76s_features", [](VRef V, TRef T, double dt, double t_max) {
+          py::gil_scoped_release release;
+          return lfs76s_features(V, T, dt, t_max);
+        }, py::arg("V"), py::arg("T"), py::arg("dt") = 0.3, py::arg("t_max") = 3.0);
   m.def("nvt36_features", [](VRef V, TRef T) {
           py::gil_scoped_release release;
           return nvt36_features(V, T);
+        }, py::arg("V"), py::arg("T"));
+  m.def("nvt36s_features", [](VRef V, TRef T) {
+          py::gil_scoped_release release;
+          return nvt36s_features(V, T);
+        }, py::arg("V"), py::arg("T"));
+  m.def("pca_min_corner_normalize", [](VRef V) { return pca_min_corner_normalize(V); }, py::arg("V"));
+  m.def("rusinkiewicz_curvatures", [](VRef V, TRef T) {
+          const PrincipalCurvatures k = rusinkiewicz_curvatures(V, T);
+          return py::make_tuple(k.k1, k.k2);
         }, py::arg("V"), py::arg("T"));
   m.def("unit_cube_normalize", [](VRef V, Eigen::Ref<const VectorXb> mask) { return unit_cube_normalize(V, mask); },
         py::arg("V"), py::arg("mask"));
