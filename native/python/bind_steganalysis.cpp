@@ -1,5 +1,6 @@
 #include "bindings.h"
 
+#include "meshmark/feature_frame.h"
 #include "meshmark/feature_statistics.h"
 #include "meshmark/lfs76_features.h"
 #include "meshmark/lfs76s_features.h"
@@ -11,6 +12,7 @@
 #include "meshmark/yang208_features.h"
 
 #include <pybind11/eigen.h>
+#include <pybind11/stl.h>
 
 namespace py = pybind11;
 
@@ -50,6 +52,19 @@ void bind_steganalysis(py::module_& m) {
   m.def("feature_moments4", [](XRef x) { return Eigen::Vector4d(moments4(x)); }, py::arg("x"));
   m.def("feature_log_moments", [](XRef x, double floor) { return Eigen::Vector4d(log_moments(x, floor)); },
         py::arg("x"), py::arg("floor"));
+  m.def("feature_moments4_regularized", [](XRef x, double s0) { return Eigen::Vector4d(moments4_regularized(x, s0)); },
+        py::arg("x"), py::arg("s0") = kMomentVarianceFloor);
+  m.def("feature_floored_log_moments", [](XRef f, XRef b, double cap) {
+          NoisyVector v;
+          for (Eigen::Index i = 0; i < f.size(); ++i) v.push(f[i], b[i]);
+          return Eigen::Vector4d(floored_log_moments(v, cap));
+        }, py::arg("f"), py::arg("bound"), py::arg("cap"));
+  m.attr("FEATURE_STORAGE_UNIT") = kStorageUnit;
+  m.attr("FEATURE_NOISE_FACTOR") = kNoiseFactor;
+  m.def("feature_frame", [](VRef V, Eigen::Ref<const VectorXb> mask) {
+          const FeatureFrame fr = feature_frame(V, mask);
+          return py::make_tuple(fr.X, std::vector<int>(fr.group.begin(), fr.group.end()), fr.lambda);
+        }, py::arg("V"), py::arg("mask"));
   m.def("feature_fd_bins", [](XRef x) { return fd_bins_exact(x); }, py::arg("x"));
   m.def("feature_histogram_moments", [](XRef x) { return Eigen::Vector4d(histogram_moments(x)); }, py::arg("x"));
 }

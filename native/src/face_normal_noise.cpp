@@ -16,7 +16,7 @@ Eigen::VectorXd face_normal_noise(const Eigen::Ref<const MatrixX3dR>& X, const E
     const double c = e1.cross(e2).norm();
     double s = 1;
     if (!unit) s = std::max({vertex_noise[T(f, 0)], vertex_noise[T(f, 1)], vertex_noise[T(f, 2)]});
-    nu[f] = c > 0 ? 2 * std::sqrt(3.0) * s * (e1.norm() + e2.norm()) / c : std::numeric_limits<double>::infinity();
+    nu[f] = c > 0 ? 2 * std::sqrt(3.0) * s * (e1.norm() + e2.norm() + (e2 - e1).norm()) / c : std::numeric_limits<double>::infinity();
   }
   return nu;
 }
