@@ -35,6 +35,7 @@ import numpy as np
 import meshmark
 from meshmark import attacks
 from meshmark.steganalysis import classifiers as clf, generated as G, protocol as P
+from meshmark.steganalysis.features import PROTOCOL_SET
 from meshmark.steganalysis.model import Model, corpus_hash
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -144,7 +145,7 @@ def calibrate(X, y, groups, n_folds, seed, learners, fpr_target, ood_target, mar
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", default=str(ROOT / "src" / "meshmark" / "steganalysis" / "default_model.npz"))
-    ap.add_argument("--set", dest="feature_set", default="yang208+lfs76+nvt36")
+    ap.add_argument("--set", dest="feature_set", default=PROTOCOL_SET)
     ap.add_argument("--versions", type=int, default=2, help="stego versions per (cover, method)")
     ap.add_argument("--learners", type=int, default=31, help="FLD learners of each specific detector")
     ap.add_argument("--universal-learners", type=int, default=101,
@@ -159,6 +160,8 @@ def main():
     ap.add_argument("--ood-fpr", type=float, default=0.02, help="OOF training covers the guard may flag")
     ap.add_argument("--margin", type=float, default=0.1, help="guard: widen the training range by this share of its span")
     ap.add_argument("--folds", type=int, default=5)
+    ap.add_argument("--domain-rate", type=float, default=0.05,
+                    help="domain check: share of the training covers (each against the other groups) beyond its threshold; 0 = none")
     ap.add_argument("--threshold", type=float, default=None, help="fix the threshold instead of calibrating it")
     ap.add_argument("--dataset", default=None, help="cache of the training features (.npz): read if present, else written")
     ap.add_argument("--no-diversity", action="store_true",
@@ -208,6 +211,10 @@ def main():
         model.threshold = threshold
         if a.guard:
             model.set_guard(X, a.margin, cal["max_outside"], ood_target=a.ood_fpr)
+        if a.domain_rate > 0:
+            c = ~y
+            dom = model.set_domain(X[c], groups[c], rate=a.domain_rate, groups="a file with its variants, or one generated mesh")
+            model.training["domain"] = dom
     model.save(a.out)
     print(f"wrote {a.out} ({pathlib.Path(a.out).stat().st_size / 1024:.0f} KB): {training['n_covers']} covers "
           f"({fam}), {training['n_stego']} stego; threshold {threshold:.3f}; calibration {cal}")

@@ -62,8 +62,11 @@ def add_commands(group: click.Group) -> None:
     @click.option("--methods", default=None, help="Comma-separated stego methods to generate (default: all registered; 'none': only --stego).")
     @click.option("--stego", "stego", multiple=True, help="Folder or file of stego meshes made elsewhere (repeatable).")
     @click.option("--seed", type=int, default=0, show_default=True)
+    @click.option("--domain-rate", type=click.FloatRange(0, 0.5), default=0.05, show_default=True,
+                  help="Domain check: share of the training covers (each against the others) beyond which a mesh is "
+                       "'cannot judge'; 0 = no check.")
     @click.option("--json", "as_json", is_flag=True, help="Print a summary as JSON.")
-    def train_cmd(covers, out, feature_set, classifier, methods, stego, seed, as_json):
+    def train_cmd(covers, out, feature_set, classifier, methods, stego, seed, domain_rate, as_json):
         """Train a universal and per-method detectors on the cover meshes COVERS (files or folders) and
         their stego versions, and save the model to --out."""
         import numpy as np
@@ -92,6 +95,9 @@ def add_commands(group: click.Group) -> None:
                         "methods": sorted({l for l in lab if l != "cover"}), "seed": seed,
                         "covers": [pathlib.Path(p).name for p in ds["path"]]}
             model = Model.train(X, y, lab, feature_set, classifier, training)
+            c = np.flatnonzero(ds["method"] == "cover")
+            if domain_rate > 0 and len(c) >= 2:
+                model.training["domain"] = model.set_domain(X[c], ds["cover"][c], rate=domain_rate, groups="one cover file")
         model.save(out)
         d = {"model": out, "feature_set": feature_set, "classifier": classifier, **{k: v for k, v in training.items()
                                                                                   if k != "covers"}}

@@ -45,6 +45,8 @@ def calibrated_threshold(X, y, groups, fpr, classifier, params, n_folds=5, seed=
         p[te] = clf.fit(clf.make(classifier, **params), X[tr], y[tr]).predict_proba(X[te])
     ok = ~np.isnan(p)
     c = ok & ~y
+    if not c.any() or not (ok & y).any():
+        return 0.5, float("nan"), float("nan")
     grid = np.unique(np.r_[p[ok], 0.0, 1.0])
     t = next((t for t in grid if (p[c] > t).mean() <= fpr), 1.0)
     return float(t), float((p[c] > t).mean()), float((p[ok & y] > t).mean())

@@ -72,9 +72,9 @@ def geometry_key(mesh):
 
 
 def geometry_hash(mesh) -> str:
-    """sha256 of geometry_key with the columns rounded to 1e-6 of the diagonal (equal for the same geometry
-    stored in another format or order, except where a coordinate lies within rounding of a 1e-6 step:
-    deduplicate compares with a tolerance instead)."""
+    """sha256 of geometry_key with the columns rounded to 1e-6 of the diagonal: equal for the same coordinates
+    in another format, vertex or face order. Storage rounding (float32 against text) can move a coordinate
+    across a 1e-6 step, so deduplicate compares the keys with a tolerance instead of the hashes."""
     n, t, C = geometry_key(mesh)
     h = hashlib.sha256(f"{n} {t}\n".encode())
     h.update(np.round(C * 1e6).astype(np.int64).tobytes())

@@ -48,8 +48,8 @@ KIND = "steganalysis"
 KEYS = {"parts", "folders", "subset", "feature_sets", "runs", "splits", "test_fraction", "pca_k", "holdout",
         "holdout_set", "cho_table", "methods", "universal", "seed", "limit"}
 PARTS = {"protocol", "cho_table"}
-DEFAULT_RUNS = [("yang208", "qda"), ("yang208", "ensemble"), ("lfs76", "ensemble"), ("nvt36", "ensemble"),
-                ("lfs76+nvt36", "ensemble"), ("yang208+lfs76s+nvt36s", "ensemble")]
+DEFAULT_RUNS = [("yang208", "qda"), ("yang208", "ensemble"), ("lfs76s", "ensemble"), ("nvt36s", "ensemble"),
+                ("lfs76s+nvt36s", "ensemble"), ("yang208+lfs76s+nvt36s", "ensemble")]
 THESIS = "specific > 80 % (Figs. 8.3-8.4; LSB and Cho variance > 90 %), universal ~75 % (Fig. 8.5)"
 
 
