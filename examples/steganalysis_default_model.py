@@ -35,6 +35,7 @@ import numpy as np
 import meshmark
 from meshmark import attacks
 from meshmark.steganalysis import classifiers as clf, generated as G, protocol as P
+from meshmark.steganalysis.features import PROTOCOL_SET
 from meshmark.steganalysis.model import Model, corpus_hash
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -141,10 +142,57 @@ def calibrate(X, y, groups, n_folds, seed, learners, fpr_target, ood_target, mar
             "oof_flagged_stego": float((out[y] > q).mean()), "folds": n_folds}, p, out
 
 
+def evaluate_on_sources(model_path, dataset, out_csv=None):
+    """The model on a protocol dataset of the shared corpora (examples/steganalysis_sources.py), covers used
+    for training (OPEN) left out: per source, the share of clean covers called marked (FPR), of stego meshes
+    found (TPR, per method) and of meshes the domain check cannot judge; rates among the judged meshes."""
+    from meshmark.steganalysis.loso import cover_sources
+    model = Model.load(model_path)
+    ds = P.load_dataset(dataset)
+    X = P.dataset_features(ds, model.feature_set)
+    train_names = {pathlib.Path(p).name for p in OPEN}
+    keep_cov = np.array([pathlib.Path(p).name not in train_names for p in ds["path"]])
+    rows = keep_cov[ds["cover"]]
+    src = cover_sources(ds)[ds["cover"]]
+    p = model.detectors["universal"].predict_proba(X)
+    dist = model.domain_distance(X)
+    judged = dist <= model.domain["threshold"] if model.domain else np.ones(len(X), bool)
+    marked = (p > model.threshold) & judged
+    meth = ds["method"]
+    table = []
+    for s in sorted(set(src[rows])) + ["all"]:
+        sel = rows & ((src == s) if s != "all" else True)
+        c, st = sel & (meth == "cover"), sel & (meth != "cover")
+        d = {"source": s, "covers": int(c.sum()), "cannot_judge_covers": float(1 - judged[c].mean()),
+             "cannot_judge_stego": float(1 - judged[st].mean()), "fpr": float(marked[c].mean()),
+             "fpr_judged": float(marked[c & judged].mean()) if (c & judged).any() else float("nan"),
+             "tpr": float(marked[st].mean()), "tpr_judged": float(marked[st & judged].mean()) if (st & judged).any() else float("nan")}
+        for m in sorted(set(meth[st])):
+            d[f"tpr:{m}"] = float(marked[st & (meth == m)].mean())
+        table.append(d)
+    if out_csv:
+        import csv
+        with open(out_csv, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=sorted({k for d in table for k in d}))
+            w.writeheader()
+            w.writerows(table)
+    meths = sorted({k[4:] for d in table for k in d if k.startswith("tpr:")})
+    print("| source | covers | cannot judge (covers / stego) | FPR | FPR judged | TPR | TPR judged | "
+          + " | ".join(meths) + " |")
+    print("|---|---:|---:|---:|---:|---:|---:|" + "---:|" * len(meths))
+    for d in table:
+        print(f"| {d['source']} | {d['covers']} | {d['cannot_judge_covers']:.2f} / {d['cannot_judge_stego']:.2f} | "
+              f"{d['fpr']:.3f} | {d['fpr_judged']:.3f} | {d['tpr']:.3f} | {d['tpr_judged']:.3f} | "
+              + " | ".join(f"{d.get('tpr:' + m, float('nan')):.2f}" for m in meths) + " |")
+    return table
+
+
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument("--evaluate", default=None, metavar="DATASET",
+                    help="only evaluate --out (an existing model) on a protocol dataset of the shared corpora, per source")
     ap.add_argument("--out", default=str(ROOT / "src" / "meshmark" / "steganalysis" / "default_model.npz"))
-    ap.add_argument("--set", dest="feature_set", default="yang208+lfs76+nvt36")
+    ap.add_argument("--set", dest="feature_set", default=PROTOCOL_SET)
     ap.add_argument("--versions", type=int, default=2, help="stego versions per (cover, method)")
     ap.add_argument("--learners", type=int, default=31, help="FLD learners of each specific detector")
     ap.add_argument("--universal-learners", type=int, default=101,
@@ -159,12 +207,17 @@ def main():
     ap.add_argument("--ood-fpr", type=float, default=0.02, help="OOF training covers the guard may flag")
     ap.add_argument("--margin", type=float, default=0.1, help="guard: widen the training range by this share of its span")
     ap.add_argument("--folds", type=int, default=5)
+    ap.add_argument("--domain-rate", type=float, default=0.05,
+                    help="domain check: share of the training covers (each against the other groups) beyond its threshold; 0 = none")
     ap.add_argument("--threshold", type=float, default=None, help="fix the threshold instead of calibrating it")
     ap.add_argument("--dataset", default=None, help="cache of the training features (.npz): read if present, else written")
     ap.add_argument("--no-diversity", action="store_true",
                     help="ablation: drop the open-file variants and the generated covers (the previous recipe)")
     ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args()
+    if a.evaluate:
+        evaluate_on_sources(a.out, a.evaluate, pathlib.Path(a.out).with_suffix(".sources.csv"))
+        return
     paths = [SHARED / p for p in OPEN]
     with P.one_thread():
         if a.dataset and pathlib.Path(a.dataset).is_file():
@@ -208,6 +261,10 @@ def main():
         model.threshold = threshold
         if a.guard:
             model.set_guard(X, a.margin, cal["max_outside"], ood_target=a.ood_fpr)
+        if a.domain_rate > 0:
+            c = ~y
+            dom = model.set_domain(X[c], groups[c], rate=a.domain_rate, groups="a file with its variants, or one generated mesh")
+            model.training["domain"] = dom
     model.save(a.out)
     print(f"wrote {a.out} ({pathlib.Path(a.out).stat().st_size / 1024:.0f} KB): {training['n_covers']} covers "
           f"({fam}), {training['n_stego']} stego; threshold {threshold:.3f}; calibration {cal}")

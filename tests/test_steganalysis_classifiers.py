@@ -93,11 +93,36 @@ def test_model_roundtrip_and_version(tmp_path):
     np.savez(tmp_path / "old.npz", **z)
     with pytest.raises(MeshError, match="format version 99"):
         Model.load(tmp_path / "old.npz")
-    meta["format_version"] = 1  # the first session's models: features computed with the 1e-12 floor
+    meta["format_version"] = 2  # models before the stabilised features (issue 25): features that no longer exist
     z["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)
-    np.savez(tmp_path / "v1.npz", **z)
-    with pytest.raises(MeshError, match="format version 1; this meshmark reads version 2: retrain"):
-        Model.load(tmp_path / "v1.npz")
+    np.savez(tmp_path / "v2.npz", **z)
+    with pytest.raises(MeshError, match="format version 2; this meshmark reads version 3: retrain"):
+        Model.load(tmp_path / "v2.npz")
+    meta["format_version"], meta["features_version"] = 3, 2
+    z["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)
+    np.savez(tmp_path / "f2.npz", **z)
+    with pytest.raises(MeshError, match="features version 2.*retrain"):
+        Model.load(tmp_path / "f2.npz")
+
+
+def test_domain_check_verdicts(tmp_path):
+    """A mesh far from the training covers is 'cannot judge' (the verdict field), whatever its probability;
+    the threshold is calibrated so that `rate` of the covers, each against the other groups, lie beyond it."""
+    X, y = gaussian_data(n=80, d=36, seed=5)
+    lab = np.where(y == 1, "a", "cover")
+    m = Model.train(X, y, lab, "nvt36s", "ensemble", n_learners=11)
+    c = y == 0
+    info = m.set_domain(X[c], np.arange(int(c.sum())) // 2, rate=0.1)
+    assert 0.05 <= info["flagged"] <= 0.15
+    m.save(tmp_path / "m.npz")
+    m2 = Model.load(tmp_path / "m.npz")
+    for mm in (m, m2):
+        r = mm.detect_features(X[0])
+        assert r["in_domain"] and r["verdict"] in ("marked", "no evidence") and r["reason"] is None
+        assert r["verdict"] == ("marked" if r["probability"] > mm.threshold else "no evidence")
+        r = mm.detect_features(X[0] + 50 * (X.max(0) - X.min(0)))
+        assert not r["in_domain"] and r["verdict"] == "cannot judge" and not r["marked"] and "cannot judge" in r["reason"]
+        assert r["domain_distance"] > r["domain_threshold"] == mm.domain["threshold"]
     (tmp_path / "junk.npz").write_bytes(b"not a model")
     with pytest.raises(MeshError, match="not a meshmark steganalysis model"):
         Model.load(tmp_path / "junk.npz")
@@ -117,8 +142,14 @@ def test_cli_features_and_bad_input(tmp_path):
     tiny.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
     x = run("features", str(tiny), "--json")
     assert x.returncode == 2 and "too small" in x.stderr
-    x = run("detect", str(tiny), "--json")
-    assert x.returncode == 2 and "too small" in x.stderr
+    x = run("detect", str(tiny), "--json")  # a verdict, not an error: the detector cannot judge it
+    d = json.loads(x.stdout)
+    assert x.returncode == 1 and d["verdict"] == "cannot judge" and "too small" in d["reason"] and not d["marked"]
+    # issue 23: a bad --out fails before any training (checked first in train_cmd: no "[1/1]" feature work)
+    x = run("train", str(shared_mesh("classic/cow.obj")), "--out", str(tmp_path / "nope" / "m.npz"))
+    assert x.returncode == 2 and "does not exist" in x.stderr
+    x = run("train", str(shared_mesh("classic/cow.obj")), "--out", str(tmp_path))
+    assert x.returncode == 2 and "is a folder" in x.stderr
     (tmp_path / "empty").mkdir()
     x = run("train", str(tmp_path / "empty"), "--out", str(tmp_path / "m.npz"))
     assert x.returncode == 2 and "empty training corpus" in x.stderr and not (tmp_path / "m.npz").exists()
@@ -150,8 +181,14 @@ def test_cli_train_detect_evaluate(tmp_path):
     assert x.returncode == 0, x.stderr
     assert {r["detector"] for r in d["table"]} == {"specific:cho-variance", "universal"}
     assert (tmp_path / "ds.npz").is_file() and len((tmp_path / "rows.csv").read_text().splitlines()) == 5
+    # issue 23: a cache built for other covers / methods / sets is refused, never reused silently
     x = run("evaluate", str(covers), "--set", "nvt36", "--dataset", str(tmp_path / "ds.npz"))
-    assert x.returncode == 2 and "no nvt36 features" in x.stderr
+    assert x.returncode == 2 and "other covers" in x.stderr
+    (covers / "vhacd_helix.off").unlink()
+    x = run("evaluate", str(covers), "--set", "lfs76", "--methods", "cho-variance", "--splits", "2",
+            "--dataset", str(tmp_path / "ds.npz"))
+    assert x.returncode == 2 and "other covers" in x.stderr
     x = run("detect", str(covers / "vhacd_pig.off"), "--json")  # the shipped default model
     d = json.loads(x.stdout)
-    assert x.returncode in (0, 1) and "cho-mean" in d["methods"] and d["feature_set"] == "yang208+lfs76+nvt36"
+    assert x.returncode in (0, 1) and "cho-mean" in d["methods"] and d["feature_set"] == "yang208+lfs76s+nvt36s"
+    assert d["verdict"] in ("marked", "no evidence", "cannot judge") and x.returncode == (0 if d["marked"] else 1)

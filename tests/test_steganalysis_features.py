@@ -1,4 +1,6 @@
-"""YANG208 (thesis §8.1): statistics against numpy/scipy, invariance, conventions, bad input."""
+"""The stabilised steganalysis sets (YANG208, LFS76s, NVT36s): statistics against numpy/scipy, independent
+references, invariance on the issue-25 reproducers, conventions, bad input. The published LFS76 / NVT36 are in
+test_steganalysis_published.py."""
 import numpy as np
 import pytest
 from scipy import stats
@@ -24,6 +26,24 @@ def test_moments_match_scipy():
     assert _core.feature_moments4(np.full(7, 3.0)).tolist() == [3.0, 0, 0, 0]
     # zeros are floored at 1e-12 (never -inf)
     np.testing.assert_allclose(_core.feature_log_moments(np.array([0.0, 1.0]), 1e-12)[0], np.log(1e-12) / 2)
+
+
+def test_regularised_moments_and_storage_floors():
+    x = np.random.default_rng(0).gamma(2.0, size=500)
+    d = x - x.mean()
+    m2, m3, m4 = (d ** 2).mean(), (d ** 3).mean(), (d ** 4).mean()
+    np.testing.assert_allclose(_core.feature_moments4_regularized(x, 1e-6),
+                               [x.mean(), x.var(ddof=1), m3 / (m2 + 1e-6) ** 1.5, m4 / (m2 + 1e-6) ** 2], rtol=1e-12)
+    # continuous where every value coincides: a 1e-15 spread gives ~0, not the scale-free kurtosis of noise
+    y = np.full(1000, -3.0)
+    y[0] += 1e-12
+    assert abs(_core.feature_moments4_regularized(y)[3]) < 1e-12 and abs(stats.kurtosis(y, fisher=False) - 999) < 1
+    # values below 10 x their bound sit on the bound; bounds above the cap are left out
+    u = _core.FEATURE_STORAGE_UNIT
+    assert u == 2.0 ** -24 and _core.FEATURE_NOISE_FACTOR == 10
+    f, b = np.array([0.0, 1e-9, 0.5, 0.3]), np.array([1e-6, 1e-6, 1e-6, 1.0])
+    np.testing.assert_allclose(_core.feature_floored_log_moments(f, b, 0.1),
+                               _core.feature_moments4_regularized(np.log([1e-5, 1e-5, 0.5])), rtol=1e-14)
 
 
 def test_freedman_diaconis_histogram_matches_numpy():
@@ -55,44 +75,16 @@ def test_freedman_diaconis_histogram_matches_numpy():
     assert _core.feature_histogram_moments(np.full(10, 1.0)).tolist() == [0, 0, 0, 0]  # one bin: no n'
 
 
-def yang_reference(V, T):
-    """numpy re-implementation of §8.1 (independent of the native code) for the first 24 vectors."""
-    used = np.zeros(len(V), bool)
-    used[T] = True
-    X = _core.unit_cube_normalize(V, used.astype(np.uint8))
-    E = np.unique(np.sort(np.vstack([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1), axis=0)
-    E_all = np.sort(np.vstack([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1)
-    _, fc = np.unique(E_all, axis=0, return_counts=True)
-    n = len(V)
-    W = np.zeros((n, n))
-    W[E[:, 0], E[:, 1]] = W[E[:, 1], E[:, 0]] = 1
-    val = W.sum(1)
-    R = np.diag(val) - W  # eq. 8.1.2
-    Xs = X.copy()
-    nz = val > 0
-    Xs[nz] = X[nz] - (R @ X)[nz] / val[nz, None]
-    L, Ls = R @ X, R @ Xs
-    interior = np.ones(n, bool)
-    interior[E[fc != 2].ravel()] = False
-    sel = used & interior
-    out = []
-    for cls in (val < 6, val == 6, val > 6):
-        m = sel & cls
-        d, dl = X[m] - Xs[m], L[m] - Ls[m]
-        vecs = [np.abs(d[:, 0]), np.abs(d[:, 1]), np.abs(d[:, 2]), np.linalg.norm(d, axis=1),
-                np.abs(dl[:, 0]), np.abs(dl[:, 1]), np.abs(dl[:, 2]),
-                np.abs(np.linalg.norm(L[m], axis=1) - np.linalg.norm(Ls[m], axis=1))]
-        for f in vecs:
-            out += ref_moments(np.log(np.maximum(f, 1e-7)))
-            out += list(_core.feature_histogram_moments(f))
-    return np.array(out)
-
-
 def test_yang208_matches_a_numpy_reference():
+    import sys
+    from conftest import ROOT
+    sys.path.insert(0, str(ROOT / "bench" / "reference"))
+    import yang208_ref  # independent, vectorised: floors, regularised moments and snapped histograms in numpy
     m = meshmark.read_mesh(shared_mesh("corpus/vhacd_pig.off"))  # 1843 vertices
     F = feat.features(m, "yang208")
     assert F.shape == (208,) and np.isfinite(F).all()
-    np.testing.assert_allclose(F[:192], yang_reference(m.V, m.triangles), rtol=1e-9, atol=1e-9)
+    ref = yang208_ref.yang208(m.V, m.triangles, _core.unit_cube_normalize(m.V, m.referenced()))
+    np.testing.assert_allclose(F, ref, rtol=1e-9, atol=1e-9)  # measured 5.6e-12
     assert len(feat.feature_names("yang208")) == 208
 
 
@@ -115,7 +107,9 @@ def transformed(m, rng, flip):
 
 
 INVARIANCE_MESHES = ["classic/cow.obj", "classic/bunny.obj", "classic/camelhead.off", "corpus/odedstein_penguin.obj",
-                     "corpus/vhacd_foot.off"]
+                     "corpus/vhacd_foot.off", "classic/fandisk.obj",
+                     # issue 25's reproducers: CAD with collapsing smoothed faces, a planar mesh, lambda1 = lambda2
+                     "corpus/thingi10k_1519468.stl", "corpus/c3d_alligator.obj", "corpus/thingi10k_59758.stl"]
 
 
 def test_permutation_alone_is_bit_exact_in_the_frame():
@@ -127,21 +121,34 @@ def test_permutation_alone_is_bit_exact_in_the_frame():
     assert np.abs(X1 - X0[pv]).max() <= 2.3e-16  # at most one rounding step (pca.h in double: 1e-14)
 
 
-@pytest.mark.parametrize("fset", ["yang208", "lfs76", "nvt36"])
-def test_invariance_every_component_1e9(fset):
-    """Rotation + axis flip, translation, uniform scale, vertex, face and corner order: EVERY component
-    within 1e-9 relative, |dF| / (1 + |F|). Measured worst (docs/steganalysis.md §2): yang208 8.6e-10 (cow),
-    lfs76 7.6e-10 (camelhead), nvt36 4.7e-10 (vhacd_foot); before the extended-precision frame and the 1e-7
-    log floor up to 1.3e-7 / 3.6e-7 / 2.3e-6."""
-    meshes = INVARIANCE_MESHES if fset != "lfs76" else INVARIANCE_MESHES[:4]  # foot: sph_az 2.6e-9 (see docs)
-    for name in meshes:
+@pytest.mark.parametrize("fset", ["yang208", "lfs76s", "nvt36s"])
+def test_invariance_every_component(fset):
+    """Rotation + axis flip, translation, uniform scale, vertex, face and corner order, and V (1 + 1e-15): EVERY
+    component within 1e-6 relative, |dF| / (1 + |F|) (issue 25's acceptance). Why the bound holds on any x86-64
+    CPU or BLAS kernel (docs/steganalysis.md §2): each value is floored at 10x its float32 storage-noise bound,
+    and a transform or another summation order / FMA moves a value by a few double ulps times the same
+    conditioning, so no log-value moves by more than ~2^-50 / (10 * 2^-24) = 1e-8 of its floor; the moments
+    are regularised (no division by a vanishing variance), histogram coincidences snapped. Measured worst over
+    classic + corpus: docs §2 (< 1e-9)."""
+    for name in INVARIANCE_MESHES:
         m = meshmark.read_mesh(shared_mesh(name))
         F0 = feat.features(m, fset)
         rng = np.random.default_rng(8)
         for flip in (False, True):
             V, T = transformed(m, rng, flip)
             rel = np.abs(feat.features((V, T), fset) - F0) / (1 + np.abs(F0))
-            assert rel.max() <= 1e-9, (name, flip, feat.feature_names(fset)[int(np.argmax(rel))], rel.max())
+            assert rel.max() <= 1e-6, (name, flip, feat.feature_names(fset)[int(np.argmax(rel))], rel.max())
+        rel = np.abs(feat.features((m.V * (1 + 1e-15), m.triangles), fset) - F0) / (1 + np.abs(F0))
+        assert rel.max() <= 1e-6, (name, "scale 1e-15", feat.feature_names(fset)[int(np.argmax(rel))], rel.max())
+
+
+def test_undetermined_principal_axes_are_pooled():
+    """thingi10k_59758 has lambda1 = lambda2: its per-axis components do not depend on the arbitrary axes."""
+    m = meshmark.read_mesh(shared_mesh("corpus/thingi10k_59758.stl"))
+    X, group, lam = _core.feature_frame(m.V, m.referenced())
+    assert group == [0, 0, 2] and (lam[0] - lam[1]) <= 1e-3 * lam[0]
+    X, group, _ = _core.feature_frame(meshmark.read_mesh(shared_mesh("classic/cow.obj")).V, np.zeros(0, np.uint8))
+    assert group == [0, 1, 2]
 
 
 def test_yang208_sees_a_cho_mark():
@@ -163,7 +170,7 @@ def test_bad_input():
 
 
 def lfs_reference_first32(V, T):
-    """numpy LFS76 features 1-32 (sound version): heat diffusion, one similarity, fixed centre."""
+    """numpy LFS76s features 1-32: heat diffusion, one similarity, the centroid, storage floors, regularised moments."""
     used = np.zeros(len(V), bool)
     used[T] = True
     X = _core.unit_cube_normalize(V, used.astype(np.uint8))
@@ -177,28 +184,34 @@ def lfs_reference_first32(V, T):
         Xs = Xs - 0.3 * (Xs - (W @ Xs) / np.maximum(deg, 1)[:, None])
     R = np.diag(deg) - W
     L, Ls = R @ X, R @ Xs
-    X, Xs, L, Ls = X[used], Xs[used], L[used], Ls[used]
-    c = 0.5
-    vecs = [np.abs(X[:, k] - Xs[:, k]) for k in range(3)]
-    vecs.append(np.abs(np.linalg.norm(X - c, axis=1) - np.linalg.norm(Xs - c, axis=1)))
-    vecs += [np.abs(L[:, k] - Ls[:, k]) for k in range(3)]
-    vecs.append(np.abs(np.linalg.norm(L, axis=1) - np.linalg.norm(Ls, axis=1)))
-    return np.concatenate([ref_moments(np.log(v + 1e-7)) for v in vecs])
+    c = X[used].mean(0)
+    X, Xs, L, Ls, k = X[used], Xs[used], L[used], Ls[used], deg[used]
+    u, r3 = 2.0 ** -24, np.sqrt(3)
+    vecs = [(np.abs(X[:, j] - Xs[:, j]), 2 * u) for j in range(3)]
+    vecs.append((np.abs(np.linalg.norm(X - c, axis=1) - np.linalg.norm(Xs - c, axis=1)), 4 * r3 * u))
+    vecs += [(np.abs(L[:, j] - Ls[:, j]), 4 * k * u) for j in range(3)]
+    vecs.append((np.abs(np.linalg.norm(L, axis=1) - np.linalg.norm(Ls, axis=1)), 4 * r3 * k * u))
+    out = []
+    for f, b in vecs:
+        y = np.log(np.maximum(f, 10 * b))
+        d = y - y.mean()
+        m2, m3, m4 = (d ** 2).mean(), (d ** 3).mean(), (d ** 4).mean()
+        out += [y.mean(), y.var(ddof=1), m3 / (m2 + 1e-6) ** 1.5, m4 / (m2 + 1e-6) ** 2]
+    return np.array(out)
 
 
-def test_lfs76_and_nvt36_lengths_reference_and_open_meshes():
+def test_lfs76s_and_nvt36s_lengths_reference_and_open_meshes():
     m = meshmark.read_mesh(shared_mesh("corpus/vhacd_pig.off"))
-    F = feat.features(m, "lfs76")
-    assert F.shape == (76,) and len(feat.feature_names("lfs76")) == 76
+    F = feat.features(m, "lfs76s")
+    assert F.shape == (76,) and len(feat.feature_names("lfs76s")) == 76
     np.testing.assert_allclose(F[:32], lfs_reference_first32(m.V, m.triangles), rtol=1e-9, atol=1e-9)
-    G = feat.features(m, "nvt36")
+    G = feat.features(m, "nvt36s")
     assert G.shape == (36,) and np.isfinite(G).all()
-    both = feat.features(m, "lfs76+nvt36")
+    both = feat.features(m, "lfs76s+nvt36s")
     np.testing.assert_array_equal(both, np.r_[F, G])
-    assert len(feat.feature_names("lfs76+nvt36")) == 112
-    # open meshes (the published LFS76 indexes a missing face there)
-    for name in ("classic/camelhead.off", "classic/teapot.obj"):
-        for s in ("lfs76", "nvt36"):
+    assert len(feat.feature_names("lfs76s+nvt36s")) == 112
+    for name in ("classic/camelhead.off", "classic/teapot.obj"):  # open meshes
+        for s in ("lfs76s", "nvt36s", "lfs76", "nvt36"):
             assert np.isfinite(feat.features(meshmark.read_mesh(shared_mesh(name)), s)).all()
 
 
@@ -211,5 +224,5 @@ def test_yang208_matches_the_vectorised_reference_all_208():
         m = meshmark.read_mesh(shared_mesh(name))
         T = m.triangles
         ref = yang208_ref.yang208(m.V, T, _core.unit_cube_normalize(m.V, m.referenced()))
-        # 1e-8: summation order differs (scipy.sparse vs native); the log-kurtosis of val>6 |dz| differs by 1.1e-9
+        # 1e-8: summation order differs (scipy.sparse vs native); measured 7.4e-12
         np.testing.assert_allclose(feat.features(m, "yang208"), ref, rtol=1e-8, atol=1e-8)

@@ -60,6 +60,17 @@ def test_registry_dataset_and_evaluate():
                 assert all(r["n_train"] > p["n_train"] for r, p in zip(ur, pick))
         with pytest.raises(MeshError, match="universal must be one of"):
             P.evaluate(ds, "lfs76", universal="best")
+        # leave one source out: 4 sources (v-hacd 4, libigl-tutorial-data 4, odedstein-meshes 5, common-3d-test-models 1)
+        from meshmark.steganalysis import loso
+        assert sorted(set(loso.cover_sources(ds))) == ["common-3d-test-models", "libigl-tutorial-data",
+                                                        "odedstein-meshes", "v-hacd"]
+        lr = loso.evaluate_by_source(ds, "lfs76", "ensemble", n_learners=11)
+        toy = [r for r in lr if r["detector"] == "specific:toy-noise"]
+        assert len(toy) == 4 and min(r["accuracy"] for r in toy) >= 0.75
+        det = [r for r in lr if r["detector"] == "detects:toy-noise"]
+        assert all(0 <= r["tpr"] <= 1 for r in det) and len(det) == 4
+        tab = loso.source_table(lr)
+        assert tab[-1]["source"].startswith("all") and tab[-1]["n_covers"] == 14
         # covers made in memory: (name, Mesh) pairs
         m = meshmark.read_mesh(paths[0])
         ds2 = P.build_dataset([("pig-patch", meshmark.attacks.crop(m, fraction=0.3))], ["cho-variance"])

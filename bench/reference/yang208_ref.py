@@ -1,10 +1,15 @@
-"""Vectorised numpy/scipy reference of YANG208 (thesis §8.1; conventions of docs/steganalysis.md §2).
-For bench/steganalysis_bench.py (speed ratio) and cross-checks; not used by the package."""
+"""Vectorised numpy/scipy reference of YANG208 (thesis §8.1; conventions of docs/steganalysis.md §2: values
+floored at 10x their float32 storage-noise bound, regularised log-moments, snapped histograms). For
+bench/steganalysis_bench.py (speed ratio) and cross-checks; not used by the package. Meshes whose principal
+variances are within 1e-3 of each other (pooled axes) are not covered."""
 from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
 from scipy import stats
+
+
+U32, C, CAP, S0, SNAP = 2.0 ** -24, 10.0, 0.1, 1e-6, 1e-9
 
 
 def _moments(x):
@@ -15,15 +20,32 @@ def _moments(x):
     return [x.mean(), x.var(ddof=1), stats.skew(x), stats.kurtosis(x, fisher=False)]
 
 
+def _reg_moments(x):
+    """mean, var (N - 1), m3 / (m2 + s0)^1.5, m4 / (m2 + s0)^2."""
+    if len(x) == 0:
+        return [0.0] * 4
+    if len(x) == 1:
+        return [float(x[0]), 0.0, 0.0, 0.0]
+    d = x - x.mean()
+    m2, m3, m4 = (d ** 2).mean(), (d ** 3).mean(), (d ** 4).mean()
+    return [x.mean(), x.var(ddof=1), m3 / (m2 + S0) ** 1.5, m4 / (m2 + S0) ** 2]
+
+
+def floored(f, b):
+    keep = np.isfinite(f) & (C * b <= CAP)
+    return np.maximum(np.abs(f[keep]), C * b[keep])
+
+
 def _hist(f):
     n = len(f)
     if n < 2 or f.max() == f.min():
         return [0.0] * 4
     q1, q3 = np.percentile(f, [25, 75])
-    H = np.ceil((f.max() - f.min()) / (2 * (q3 - q1) / n ** (1 / 3))) if q3 > q1 else np.ceil(np.log2(n)) + 1
+    rng = f.max() - f.min()
+    H = np.ceil(rng / (2 * (q3 - q1) / n ** (1 / 3)) - SNAP) if q3 - q1 > SNAP * rng else np.ceil(np.log2(n)) + 1
     if H < 2:
         return [0.0] * 4
-    idx = np.minimum(((f - f.min()) * (H / (f.max() - f.min()))).astype(np.int64), int(H) - 1)
+    idx = np.minimum(((f - f.min()) * (H / rng) + SNAP).astype(np.int64), int(H) - 1)
     occ, cnt = np.unique(idx, return_counts=True)
     gap = np.diff(occ) > 1
     d = np.where(gap, 0, np.diff(cnt))
@@ -58,9 +80,13 @@ def yang208(V, T, X=None):
     for cls in (val < 6, val == 6, val > 6):
         m = sel & cls
         d, dl = X[m] - Xs[m], L[m] - Ls[m]
-        for f in [*np.abs(d).T, np.linalg.norm(d, axis=1), *np.abs(dl).T,
-                  np.abs(np.linalg.norm(L[m], axis=1) - np.linalg.norm(Ls[m], axis=1))]:
-            out += _moments(np.log(np.maximum(f, 1e-7))) + _hist(f)
+        k = val[m]
+        one = np.ones(int(m.sum()))
+        for f, b in [*[(x, 2 * U32 * one) for x in np.abs(d).T], (np.linalg.norm(d, axis=1), 2 * np.sqrt(3) * U32 * one),
+                     *[(x, 4 * k * U32) for x in np.abs(dl).T],
+                     (np.abs(np.linalg.norm(L[m], axis=1) - np.linalg.norm(Ls[m], axis=1)), 4 * np.sqrt(3) * k * U32)]:
+            v = floored(f, b)
+            out += _reg_moments(np.log(v)) + _hist(v)
 
     def normals(P):
         nrm = np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]])
@@ -72,15 +98,25 @@ def yang208(V, T, X=None):
 
     N, okN = normals(X)
     Ns, okNs = normals(Xs)
+
+    def noise(P):  # 2 sqrt 3 perimeter / |(b - a) x (c - a)|
+        a, b, c = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
+        per = np.linalg.norm(b - a, axis=1) + np.linalg.norm(c - b, axis=1) + np.linalg.norm(a - c, axis=1)
+        cr = np.linalg.norm(np.cross(b - a, c - a), axis=1)
+        with np.errstate(divide="ignore"):
+            return np.where(cr > 0, 2 * np.sqrt(3) * per / np.where(cr > 0, cr, 1), np.inf)
+
+    nu, nus = noise(X), noise(Xs)
     face = np.tile(np.arange(len(T)), 3)
     order = np.argsort(inv.ravel(), kind="stable")
     e_sorted, f_sorted = inv.ravel()[order], face[order]
     start = np.searchsorted(e_sorted, np.arange(len(E)))
     two = fc == 2
     f0, f1 = f_sorted[start[two]], f_sorted[start[two] + 1]
-    ok = okN[f0] & okN[f1] & okNs[f0] & okNs[f1]
-    dih = np.abs(angle(N[f0], N[f1]) - angle(Ns[f0], Ns[f1]))[ok]
-    fa = angle(N, Ns)[okN & okNs]
-    for f in (dih, fa):
-        out += _moments(np.log(np.maximum(f, 1e-7))) + _hist(f)
+    dih = np.abs(angle(N[f0], N[f1]) - angle(Ns[f0], Ns[f1]))
+    bd = U32 * (nu[f0] + nu[f1] + nus[f0] + nus[f1])
+    fa, bf = angle(N, Ns), U32 * (nu + nus)
+    for f, b in ((dih, bd), (fa, bf)):
+        v = floored(f, b)
+        out += _reg_moments(np.log(v)) + _hist(v)
     return np.array(out, float)

@@ -34,6 +34,46 @@ Eigen::Vector4d moments4(const Eigen::Ref<const Eigen::VectorXd>& x) {
   return out;
 }
 
+Eigen::Vector4d moments4_regularized(const Eigen::Ref<const Eigen::VectorXd>& x, double s0) {
+  using LD = long double;
+  const Eigen::Index n = x.size();
+  Eigen::Vector4d out = Eigen::Vector4d::Zero();
+  if (n == 0) return out;
+  LD s = 0;
+  for (Eigen::Index i = 0; i < n; ++i) s += x[i];
+  const LD mean = s / n;
+  out[0] = static_cast<double>(mean);
+  if (n == 1) return out;
+  LD m2 = 0, m3 = 0, m4 = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const LD d = x[i] - mean, d2 = d * d;
+    m2 += d2, m3 += d2 * d, m4 += d2 * d2;
+  }
+  out[1] = static_cast<double>(m2 / (n - 1));
+  m2 /= n, m3 /= n, m4 /= n;
+  const LD r = m2 + static_cast<LD>(s0);
+  out[2] = static_cast<double>(m3 / (r * std::sqrt(r)));
+  out[3] = static_cast<double>(m4 / (r * r));
+  return out;
+}
+
+std::vector<double> floored_values(const NoisyVector& v, double cap) {
+  std::vector<double> out;
+  out.reserve(v.f.size());
+  for (size_t i = 0; i < v.f.size(); ++i) {
+    const double fl = kNoiseFactor * v.b[i];
+    if (!(fl <= cap) || !std::isfinite(v.f[i])) continue;  // not determined by the geometry: left out
+    out.push_back(std::max(std::abs(v.f[i]), fl));
+  }
+  return out;
+}
+
+Eigen::Vector4d floored_log_moments(const NoisyVector& v, double cap) {
+  std::vector<double> y = floored_values(v, cap);
+  for (double& x : y) x = std::log(x);
+  return moments4_regularized(Eigen::Map<const Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size())));
+}
+
 Eigen::Vector4d log_moments(const Eigen::Ref<const Eigen::VectorXd>& f, double floor) {
   Eigen::VectorXd y(f.size());
   if (floor > 0)
@@ -65,9 +105,9 @@ double fd_bins_exact(const Eigen::Ref<const Eigen::VectorXd>& f) {
   std::vector<double> s(f.data(), f.data() + n);
   const double q1 = quantile(s, 0.25), q3 = quantile(s, 0.75), iqr = q3 - q1;
   double H;
-  if (iqr > 0) {
+  if (iqr > kHistogramSnap * range) {
     const double h = 2.0 * iqr / std::cbrt(static_cast<double>(n));  // eq. 8.1.4
-    H = std::ceil(range / h);                                        // eq. 8.1.3
+    H = std::ceil(range / h - kHistogramSnap);                       // eq. 8.1.3 (snapped)
   } else {
     H = std::ceil(std::log2(static_cast<double>(n))) + 1;  // Sturges: zero IQR (docs/steganalysis.md)
   }
@@ -83,7 +123,7 @@ Eigen::Vector4d histogram_moments(const Eigen::Ref<const Eigen::VectorXd>& f) {
   const Eigen::Index n = f.size();
   const double lo = f.minCoeff(), hi = f.maxCoeff(), scale = Hd / (hi - lo);
   auto bin = [&](double x) {  // numpy.histogram: equal bins over [lo, hi], the last one closed
-    const long k = static_cast<long>((x - lo) * scale);
+    const long k = static_cast<long>((x - lo) * scale + kHistogramSnap);
     return std::min(std::max(k, 0L), H - 1);
   };
   std::vector<double> d;  // log|n'| of the non-zero first differences of the counts

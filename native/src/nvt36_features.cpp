@@ -1,14 +1,12 @@
 #include "meshmark/nvt36_features.h"
-#include "meshmark/edge_faces.h"
-#include "meshmark/face_areas.h"
-#include "meshmark/face_normals.h"
 #include "meshmark/feature_mesh_check.h"
 #include "meshmark/feature_statistics.h"
-#include "meshmark/unique_edges.h"
-#include "meshmark/unit_cube_normalize.h"
-#include "meshmark/vertex_adjacency.h"
+#include "meshmark/pca_min_corner_normalize.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -16,122 +14,164 @@
 namespace meshmark {
 
 namespace {
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-// log(|d| + floor) for the eigenvalue differences: kFeatureLogFloor = 1e-7, not 2^-52 (docs/steganalysis.md §3:
-// the 3x3 solver's own error is ~1e-15; with 2^-52 the log-moments of near-zero eigenvalues varied by 1e-2 under
-// rotation, with 1e-12 by up to 2e-6).
-constexpr double kLogFloor = kFeatureLogFloor;
+constexpr double kEps = std::numeric_limits<double>::epsilon();  // MATLAB's eps, 2^-52
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Inverse-distance-weighted 1-ring average (smoothpatch mode 2, one iteration, lambda 1).
-MatrixX3dR idw_smooth(const MatrixX3dR& X, const Adjacency& A) {
-  MatrixX3dR Y = X;
-  for (Eigen::Index i = 0; i < X.rows(); ++i) {
-    Eigen::RowVector3d s = Eigen::RowVector3d::Zero();
-    double w = 0;
-    for (Offset q = A.ptr[i]; q < A.ptr[i + 1]; ++q) {
-      const double d = (X.row(A.nbr[q]) - X.row(i)).norm();
-      if (d > 0) s += X.row(A.nbr[q]) / d, w += 1 / d;
-    }
-    if (w > 0) Y.row(i) = s / w;
+// smoothpatch(fv, 2, 1): Kroon's smoothpatch_inversedistance_double, one iteration, lambda 1, sigma 1.
+MatrixX3dR smoothpatch_inverse_distance(const Eigen::Ref<const MatrixX3dR>& X, const Eigen::Ref<const MatrixX3iR>& T) {
+  const Eigen::Index n = X.rows();
+  MatrixX3dR N2 = MatrixX3dR::Zero(n, 3);
+  Eigen::VectorXd W = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index f = 0; f < T.rows(); ++f) {
+    const Index a = T(f, 0), b = T(f, 1), c = T(f, 2);
+    const double w0 = 1 / ((X.row(a) - X.row(b)).norm() + 1.0), w1 = 1 / ((X.row(b) - X.row(c)).norm() + 1.0),
+                 w2 = 1 / ((X.row(c) - X.row(a)).norm() + 1.0);
+    N2.row(a) += X.row(b) * w0, W[a] += w0;
+    N2.row(b) += X.row(a) * w0, W[b] += w0;
+    N2.row(b) += X.row(c) * w1, W[b] += w1;
+    N2.row(c) += X.row(b) * w1, W[c] += w1;
+    N2.row(c) += X.row(a) * w2, W[c] += w2;
+    N2.row(a) += X.row(c) * w2, W[a] += w2;
   }
+  MatrixX3dR Y(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) Y.row(i) = X.row(i) + (N2.row(i) / W[i] - X.row(i)) * 1.0;  // W = 0: NaN
   return Y;
 }
 
-struct Tensors {  // eigenvalues, descending, of the three tensors; NaN where undefined
-  MatrixX3dR face_edge, vertex, face_ring;
-};
+// compute_normal's unit face normals (a norm below eps is taken as 1) and meshSurfaceAreaList's areas.
+void normals_and_areas(const MatrixX3dR& X, const Eigen::Ref<const MatrixX3iR>& T, MatrixX3dR& N, Eigen::VectorXd& area) {
+  N.resize(T.rows(), 3);
+  area.resize(T.rows());
+  for (Eigen::Index f = 0; f < T.rows(); ++f) {
+    const Eigen::Vector3d e1 = X.row(T(f, 1)) - X.row(T(f, 0)), e2 = X.row(T(f, 2)) - X.row(T(f, 0));
+    const Eigen::Vector3d c = e1.cross(e2);
+    double d = c.norm();
+    if (d < kEps) d = 1;
+    N.row(f) = (c / d).transpose();
+    const Eigen::Vector3d n = (e1 / e1.norm()).cross(e2 / e2.norm()), nn = n / n.norm();  // faceNormal, normalised
+    const double a = std::abs(c.dot(nn)) / 2;
+    area[f] = std::isnan(a) ? 0.0 : a;
+  }
+}
 
 Eigen::Vector3d eig_desc(const Eigen::Matrix3d& M) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M, Eigen::EigenvaluesOnly);
-  const Eigen::Vector3d e = es.eigenvalues();  // ascending
+  const Eigen::Vector3d e = es.eigenvalues();
   return Eigen::Vector3d(e[2], e[1], e[0]);
 }
 
-Tensors tensors(const MatrixX3dR& X, const Eigen::Ref<const MatrixX3iR>& T, const EdgeList& edges,
-                const EdgeFaces& EF, const VectorXo& vf_ptr, const VectorXi& vf) {
-  const Eigen::Index nf = T.rows(), n = X.rows();
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  const MatrixX3dR N = face_normals(X, T);
-  const Eigen::VectorXd area = face_areas(X, T);
-  MatrixX3dR C(nf, 3);
-  for (Eigen::Index f = 0; f < nf; ++f) C.row(f) = (X.row(T(f, 0)) + X.row(T(f, 1)) + X.row(T(f, 2))) / 3.0;
-  auto nn = [&](Index f) { return Eigen::Matrix3d(N.row(f).transpose() * N.row(f)); };
-  Tensors out;
-  out.face_edge = MatrixX3dR::Constant(nf, 3, nan);
-  // 1. edge-adjacent faces, area weights, normalised (bnvt_feat)
-  std::vector<Eigen::Matrix3d> S(nf, Eigen::Matrix3d::Zero());
-  std::vector<double> W(nf, 0.0);
-  for (Eigen::Index e = 0; e < edges.E.rows(); ++e) {
-    if (edges.face_count[e] != 2 || EF.f1[e] < 0) continue;
-    const Index a = EF.f0[e], b = EF.f1[e];
-    S[a] += area[b] * nn(b), W[a] += area[b];
-    S[b] += area[a] * nn(a), W[b] += area[a];
-  }
-  for (Eigen::Index f = 0; f < nf; ++f)
-    if (W[f] > 0 && area[f] > 0) out.face_edge.row(f) = eig_desc(S[f] / (W[f] + kEps)).transpose();
-  // 2. faces around each vertex, w = area / max area * exp(-3 |c_j - x_i|) (bnvt_feat2)
-  out.vertex = MatrixX3dR::Constant(n, 3, nan);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (vf_ptr[i + 1] == vf_ptr[i]) continue;
-    double amax = 0;
-    for (Offset q = vf_ptr[i]; q < vf_ptr[i + 1]; ++q) amax = std::max(amax, area[vf[q]]);
-    Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-    for (Offset q = vf_ptr[i]; q < vf_ptr[i + 1]; ++q) {
-      const Index f = vf[q];
-      M += area[f] / (amax + kEps) * std::exp(-3.0 * (C.row(f) - X.row(i)).norm()) * nn(f);
+struct Topology {             // what the three tensors need, in the published code's orders
+  std::vector<std::vector<Index>> edge_faces;  // trimeshEdgeFaces rows: faces of each unique edge by side position
+  std::vector<std::vector<Index>> face_edges;  // bnvt_feat's f_ad: edges with the face in column 1, then column 2
+  std::vector<std::vector<Index>> conn;        // neighborelem: faces of each vertex, ascending, once per corner
+};
+
+Topology topology(Eigen::Index n, const Eigen::Ref<const MatrixX3iR>& T) {
+  const Eigen::Index nf = T.rows();
+  Topology t;
+  // sides [1 2], [2 3], [3 1] of every face, position p = block * nf + f; unique sorted pairs (unique 'rows')
+  std::vector<std::array<Index, 3>> sides;  // (lo, hi, position)
+  sides.reserve(3 * nf);
+  const int blk[3][2] = {{0, 1}, {1, 2}, {2, 0}};
+  for (int b = 0; b < 3; ++b)
+    for (Eigen::Index f = 0; f < nf; ++f) {
+      const Index u = T(f, blk[b][0]), v = T(f, blk[b][1]);
+      sides.push_back({std::min(u, v), std::max(u, v), static_cast<Index>(b * nf + f)});
     }
-    out.vertex.row(i) = eig_desc(M).transpose();
+  std::sort(sides.begin(), sides.end());
+  for (size_t i = 0; i < sides.size();) {
+    size_t j = i;
+    std::vector<Index> faces;
+    while (j < sides.size() && sides[j][0] == sides[i][0] && sides[j][1] == sides[i][1])
+      faces.push_back(static_cast<Index>(sides[j][2] % nf)), ++j;
+    t.edge_faces.push_back(std::move(faces));
+    i = j;
   }
-  // 3. faces sharing a vertex with each face, itself included (bnvt_feat3)
-  out.face_ring = MatrixX3dR::Constant(nf, 3, nan);
-  std::vector<Index> ring;
-  std::vector<Eigen::Index> mark(nf, -1);
-  for (Eigen::Index f = 0; f < nf; ++f) {
-    if (!(area[f] > 0)) continue;
-    ring.clear();
-    for (int k = 0; k < 3; ++k)
-      for (Offset q = vf_ptr[T(f, k)]; q < vf_ptr[T(f, k) + 1]; ++q)
-        if (mark[vf[q]] != f) mark[vf[q]] = f, ring.push_back(vf[q]);
-    double amax = 0;
-    for (const Index g : ring) amax = std::max(amax, area[g]);
+  t.face_edges.assign(nf, {});
+  for (int col = 0; col < 2; ++col)
+    for (size_t e = 0; e < t.edge_faces.size(); ++e)
+      if (static_cast<int>(t.edge_faces[e].size()) > col) t.face_edges[t.edge_faces[e][col]].push_back(static_cast<Index>(e));
+  t.conn.assign(n, {});
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) t.conn[T(f, k)].push_back(static_cast<Index>(f));
+  return t;
+}
+
+struct Lambdas {
+  MatrixX3dR face_edge, vertex, face_ring;  // descending eigenvalues; NaN rows where bnvt_feat gives NaN
+};
+
+Lambdas tensors(const MatrixX3dR& X, const Eigen::Ref<const MatrixX3iR>& T, const Topology& topo) {
+  const Eigen::Index nf = T.rows(), n = X.rows();
+  MatrixX3dR N;
+  Eigen::VectorXd area;
+  normals_and_areas(X, T, N, area);
+  auto nn = [&](Index f) { return Eigen::Matrix3d(N.row(f).transpose() * N.row(f)); };
+  MatrixX3dR C(nf, 3);  // tricentroid
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) C(f, k) = 1.0 / 3 * (X(T(f, 0), k) + X(T(f, 1), k) + X(T(f, 2), k));
+  Lambdas L;
+  L.face_edge = MatrixX3dR::Constant(nf, 3, kNaN);
+  for (Eigen::Index k = 0; k < nf; ++k) {  // bnvt_feat
+    const auto& fa = topo.face_edges[k];
+    if (fa.size() != 3) continue;
+    Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+    double w = 0;
+    for (const Index e : fa) {
+      std::vector<Index> other;  // setdiff(setdiff(row, k), 0)
+      for (const Index g : topo.edge_faces[e])
+        if (g != k && std::find(other.begin(), other.end(), g) == other.end()) other.push_back(g);
+      if (other.size() == 1) S += area[other[0]] * nn(other[0]), w += area[other[0]];
+    }
+    L.face_edge.row(k) = eig_desc(S / (w + kEps)).transpose();
+  }
+  auto vote = [&](const std::vector<Index>& ring, const Eigen::RowVector3d& centre) {
+    double amax = -std::numeric_limits<double>::infinity();
+    for (const Index g : ring) amax = std::max(amax, area[g] + kEps);
     Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-    for (const Index g : ring) M += area[g] / (amax + kEps) * std::exp(-3.0 * (C.row(g) - C.row(f)).norm()) * nn(g);
-    out.face_ring.row(f) = eig_desc(M).transpose();
+    for (const Index g : ring) {
+      const double t1 = std::exp(-(C.row(g) - centre).norm() / (1.0 / 3));
+      M += (area[g] / amax * t1) * nn(g);
+    }
+    return eig_desc(M);
+  };
+  L.vertex.resize(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) L.vertex.row(i) = vote(topo.conn[i], X.row(i)).transpose();  // bnvt_feat2
+  L.face_ring.resize(nf, 3);
+  std::vector<Index> ring;
+  for (Eigen::Index f = 0; f < nf; ++f) {  // bnvt_feat3: unique faces sharing a vertex with f
+    ring.clear();
+    for (int k = 0; k < 3; ++k) ring.insert(ring.end(), topo.conn[T(f, k)].begin(), topo.conn[T(f, k)].end());
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    L.face_ring.row(f) = vote(ring, C.row(f)).transpose();
   }
-  return out;
+  return L;
+}
+
+// cal_moment: mean, var, skewness, kurtosis of log(x + eps); any NaN makes all four NaN, reported 0.
+Eigen::Vector4d cal_moment(const std::vector<double>& x) {
+  for (const double v : x)
+    if (std::isnan(v)) return Eigen::Vector4d::Zero();
+  return log_moments(Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())), -kEps);
 }
 }  // namespace
 
 Eigen::VectorXd nvt36_features(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T) {
-  const Index n = static_cast<Index>(V.rows());
-  const VectorXb used = feature_mesh_check(V, T);
-  const MatrixX3dR X = unit_cube_normalize(V, used);
-  const EdgeList edges = unique_edges(n, Polygons::from_triangles(T));
-  const Adjacency A = vertex_adjacency(n, edges.E);
-  const MatrixX3dR Xs = idw_smooth(X, A);
-  const EdgeFaces EF = edge_faces(edges, A, T);
-  VectorXo vf_ptr = VectorXo::Zero(n + 1);  // faces around each vertex (CSR)
-  for (Eigen::Index f = 0; f < T.rows(); ++f)
-    for (int k = 0; k < 3; ++k) ++vf_ptr[T(f, k) + 1];
-  for (Index i = 0; i < n; ++i) vf_ptr[i + 1] += vf_ptr[i];
-  VectorXi vf(vf_ptr[n]);
-  VectorXo fill = vf_ptr.head(n);
-  for (Eigen::Index f = 0; f < T.rows(); ++f)
-    for (int k = 0; k < 3; ++k) vf[fill[T(f, k)]++] = static_cast<Index>(f);
-  const Tensors a = tensors(X, T, edges, EF, vf_ptr, vf), b = tensors(Xs, T, edges, EF, vf_ptr, vf);
-  Eigen::VectorXd F(kNvt36Size);
+  feature_mesh_check(V, T);
+  const MatrixX3dR Vs = smoothpatch_inverse_distance(V, T);
+  const MatrixX3dR Xo = pca_min_corner_normalize(V), Xs = pca_min_corner_normalize(Vs);
+  const Topology topo = topology(V.rows(), T);
+  const Lambdas a = tensors(Xo, T, topo), b = tensors(Xs, T, topo);
   const MatrixX3dR* pa[3] = {&a.face_edge, &a.vertex, &a.face_ring};
   const MatrixX3dR* pb[3] = {&b.face_edge, &b.vertex, &b.face_ring};
+  Eigen::VectorXd F(kNvt36Size);
   std::vector<double> d;
   for (int t = 0; t < 3; ++t)
     for (int k = 0; k < 3; ++k) {
-      d.clear();
-      for (Eigen::Index r = 0; r < pa[t]->rows(); ++r) {
-        const double x = (*pa[t])(r, k), y = (*pb[t])(r, k);
-        if (std::isfinite(x) && std::isfinite(y)) d.push_back(std::abs(x - y));
-      }
-      F.segment<4>(4 * (3 * t + k)) =
-          log_moments(Eigen::Map<const Eigen::VectorXd>(d.data(), static_cast<Eigen::Index>(d.size())), -kLogFloor);
+      d.resize(pa[t]->rows());
+      for (Eigen::Index r = 0; r < pa[t]->rows(); ++r) d[r] = std::abs((*pa[t])(r, k) - (*pb[t])(r, k));
+      F.segment<4>(4 * (3 * t + k)) = cal_moment(d);
     }
   return F;
 }

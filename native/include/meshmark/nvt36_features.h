@@ -1,19 +1,21 @@
-// meshmark: the NVT36 steganalysis features of Zhou et al. (2019, normal voting tensors), the sound
-// version (docs/steganalysis.md §3).
+// meshmark: the NVT36 steganalysis features of Zhou et al. (IEEE TVCG 2019) exactly as the authors' code
+// computes them (RyanHangZhou/NVTplus @ 19d0808: nvt36_fea.m, bnvt_feat{,2,3}.m; docs/steganalysis.md §3).
 //
-// Reference mesh: one step of inverse-distance-weighted vertex smoothing, x_i' = sum_j w_ij x_j /
-// sum_j w_ij over the 1-ring, w_ij = 1 / ||x_j - x_i|| (Kroon's smoothpatch, mode 2, one iteration,
-// lambda = 1, as in the authors' code). Both meshes in the unit-cube frame of the original
-// (unit_cube_normalize.h). Three normal voting tensors, each sum_j w_j n_j n_j^T:
-//   1. per face, its edge-adjacent faces, w_j = area_j, divided by sum w_j (bnvt_feat);
-//   2. per vertex, its incident faces, w_j = area_j / max area * exp(-3 ||c_j - x_i||) (bnvt_feat2);
-//   3. per face, the faces sharing a vertex with it (itself included), w_j = area_j / max area *
-//      exp(-3 ||c_j - c_f||) (bnvt_feat3);
-// c_j = centroid of face j. The eigenvalues lambda1 >= lambda2 >= lambda3 of each tensor on M and M',
-// |lambda_k - lambda_k'|: 9 vectors x 4 log-moments (log(|d| + 1e-7); the published eps = 2^-52 is below the
-// eigen-solver noise) = 36. Faces without
-// an edge-neighbour (tensor 1) and degenerate faces are left out instead of turning the whole feature
-// into 0 as the published NaN rule does.
+// 1. Reference mesh: Kroon's smoothpatch(fv, 2, 1) on the file's coordinates: one umbrella step with
+//    inverse-distance weights 1 / (|e| + sigma), sigma = 1 in the file's units (not scale-invariant),
+//    each face side counted once per face, lambda = 1; a vertex in no face becomes NaN.
+// 2. Each mesh normalised on its own (pca_min_corner_normalize.h: the corrected projection).
+// 3. Face normals of compute_normal (toolbox_graph: cross(v1 - v0, v2 - v0) / |.|, a norm below 2^-52 is
+//    taken as 1); areas of meshSurfaceAreaList (|c . n| / 2 with n = cross of the normalised edges; NaN -> 0).
+// 4. Three normal voting tensors and their eigenvalues (descending):
+//    bnvt_feat:  per face with exactly three edges in trimeshEdgeFaces' first two columns, the area-weighted
+//                n n^T of the one other face of each edge, divided by (sum of weights + 2^-52); else NaN;
+//    bnvt_feat2: per vertex (all of them, in no face: zeros), sum over its faces of
+//                area / (max area + 2^-52) * exp(-3 |c_j - v|) n n^T;
+//    bnvt_feat3: per face, the same over the faces sharing a vertex with it (itself included), about its centroid.
+// 5. |lambda_k - lambda_k'|, then mean, var (N - 1), skewness, kurtosis (biased, not excess) of
+//    log(d + 2^-52) per vector; NaN statistics are 0 (F(isnan(F)) = 0).
+// Faces must be triangles.
 #pragma once
 #include "meshmark/mesh.h"
 

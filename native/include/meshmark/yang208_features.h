@@ -1,6 +1,7 @@
 // meshmark: the YANG208 steganalysis feature vector of thesis §8.1 (docs/steganalysis.md §2).
 //
-// 1. Normalise: PCA frame, unit cube centred at (0.5, 0.5, 0.5) (§8.1.1, unit_cube_normalize.h).
+// 1. Normalise: PCA frame, unit cube centred at (0.5, 0.5, 0.5) (§8.1.1, feature_frame.h: where two
+//    principal variances agree to 1e-3 the axes are not determined; their components are pooled).
 // 2. Calibrate: the reference mesh M' is one step of Laplacian smoothing with the Kirchhoff matrix R
 //    of eq. 8.1.2, normalised by the valence: x' = x - D^-1 R x (each vertex moves to the mean of its
 //    neighbours, the umbrella step with lambda = 1), so that M - M' is the valence-normalised
@@ -23,7 +24,8 @@
 namespace meshmark {
 
 constexpr int kYang208Size = 208;
-constexpr double kYang208LogFloor = kFeatureLogFloor;  // feature_statistics.h
+// An element whose storage-noise floor exceeds 0.1 (unit-cube lengths, radians) is left out.
+constexpr double kYang208Cap = 0.1;
 
 Eigen::VectorXd yang208_features(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::Ref<const MatrixX3iR>& T);
 

@@ -18,7 +18,25 @@ def _emit(d, as_json, text):
 
 def _set_option(f):
     return click.option("--set", "feature_set", default="yang208", show_default=True,
-                        help="Feature set: yang208, lfs76, nvt36 or a '+' combination (lfs76+nvt36).")(f)
+                        help="Feature set: yang208, lfs76s, nvt36s (the stabilised sets), lfs76, nvt36 (as published) "
+                             "or a '+' combination (yang208+lfs76s+nvt36s).")(f)
+
+
+def check_output_path(out) -> pathlib.Path:
+    """MeshError (exit 2) before any work when ``out`` cannot be written: a folder, a missing or
+    read-only parent folder."""
+    import os
+    p = pathlib.Path(out)
+    if p.is_dir():
+        raise MeshError(f"--out {out} is a folder; give a file name (.npz)")
+    parent = p.parent if str(p.parent) else pathlib.Path(".")
+    if not parent.is_dir():
+        raise MeshError(f"--out {out}: the folder {parent} does not exist")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise MeshError(f"--out {out}: the folder {parent} is not writable")
+    if p.exists() and not os.access(p, os.W_OK):
+        raise MeshError(f"--out {out} exists and is not writable")
+    return p
 
 
 def add_commands(group: click.Group) -> None:
@@ -44,8 +62,11 @@ def add_commands(group: click.Group) -> None:
     @click.option("--methods", default=None, help="Comma-separated stego methods to generate (default: all registered; 'none': only --stego).")
     @click.option("--stego", "stego", multiple=True, help="Folder or file of stego meshes made elsewhere (repeatable).")
     @click.option("--seed", type=int, default=0, show_default=True)
+    @click.option("--domain-rate", type=click.FloatRange(0, 0.5), default=0.05, show_default=True,
+                  help="Domain check: share of the training covers (each against the others) beyond which a mesh is "
+                       "'cannot judge'; 0 = no check.")
     @click.option("--json", "as_json", is_flag=True, help="Print a summary as JSON.")
-    def train_cmd(covers, out, feature_set, classifier, methods, stego, seed, as_json):
+    def train_cmd(covers, out, feature_set, classifier, methods, stego, seed, domain_rate, as_json):
         """Train a universal and per-method detectors on the cover meshes COVERS (files or folders) and
         their stego versions, and save the model to --out."""
         import numpy as np
@@ -53,6 +74,7 @@ def add_commands(group: click.Group) -> None:
         from . import protocol as P
         from .model import Model, corpus_hash
 
+        check_output_path(out)  # before hours of training (issue 23)
         paths = P.mesh_files(covers)
         if not paths:
             raise MeshError(f"empty training corpus: no .obj/.off/.ply/.stl meshes in {', '.join(covers)}")
@@ -73,6 +95,9 @@ def add_commands(group: click.Group) -> None:
                         "methods": sorted({l for l in lab if l != "cover"}), "seed": seed,
                         "covers": [pathlib.Path(p).name for p in ds["path"]]}
             model = Model.train(X, y, lab, feature_set, classifier, training)
+            c = np.flatnonzero(ds["method"] == "cover")
+            if domain_rate > 0 and len(c) >= 2:
+                model.training["domain"] = model.set_domain(X[c], ds["cover"][c], rate=domain_rate, groups="one cover file")
         model.save(out)
         d = {"model": out, "feature_set": feature_set, "classifier": classifier, **{k: v for k, v in training.items()
                                                                                   if k != "covers"}}
@@ -85,16 +110,21 @@ def add_commands(group: click.Group) -> None:
                   help="Model file (default: the model shipped with meshmark).")
     @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
     def detect_cmd(inp, model_path, as_json):
-        """Is IN a stego mesh? Universal decision plus a probability per stego method.
+        """Is IN a stego mesh? The verdict ("marked", "no evidence" or "cannot judge": the mesh lies outside
+        the model's training covers or is too small), the universal probability and one per stego method.
 
-        Exit status: 0 marked, 1 not marked, 2 error."""
+        Exit status: 0 marked, 1 no evidence or cannot judge, 2 error."""
         from .model import Model
 
         model = Model.load(model_path)
         r = model.detect(inp)
-        d = {"input": inp, "marked": bool(r["marked"]), "probability": r["probability"], "threshold": r["threshold"],
+        d = {"input": inp, "verdict": r["verdict"], "reason": r["reason"], "marked": bool(r["marked"]),
+             "probability": r["probability"], "threshold": r["threshold"],
              "methods": r["methods"], "feature_set": r["feature_set"], "classifier": r["classifier"],
              "model": str(model_path or "default")}
+        for k in ("domain_distance", "domain_threshold", "in_domain"):
+            if k in r:
+                d[k] = r[k]
         if "operating_point" in r:  # the model's cross-validated false-positive and detection rates
             d["operating_point"] = r["operating_point"]
         if "in_distribution" in r:  # the model has an out-of-distribution guard
@@ -102,8 +132,10 @@ def add_commands(group: click.Group) -> None:
             if "warning" in r:
                 d["warning"] = r["warning"]
         per = ", ".join(f"{k} {v:.2f}" for k, v in sorted(r["methods"].items(), key=lambda kv: -kv[1]))
-        _emit(d, as_json, f"{inp}: {'MARKED' if d['marked'] else 'not marked'} (universal P = {d['probability']:.2f}, "
-                          f"marked above {d['threshold']:.2f})\nper method: {per}"
+        head = (f"{inp}: CANNOT JUDGE: {d['reason']}" if d["verdict"] == "cannot judge" else
+                f"{inp}: {'MARKED' if d['marked'] else 'no evidence of a mark'} (universal P = {d['probability']:.2f}, "
+                f"marked above {d['threshold']:.2f})")
+        _emit(d, as_json, head + (f"\nper method: {per}" if per else "")
                           + (f"\nwarning: {d['warning']}" if "warning" in d else "")
                           + (f"\nthis model, cross-validated on its covers: {100 * d['operating_point']['cv_fpr']:.0f} % of "
                              f"clean meshes called marked, {100 * d['operating_point']['cv_tpr']:.0f} % of marked ones found"
@@ -117,27 +149,54 @@ def add_commands(group: click.Group) -> None:
     @click.option("--splits", type=int, default=30, show_default=True)
     @click.option("--test-fraction", type=float, default=0.3, show_default=True)
     @click.option("--methods", default=None, help="Comma-separated stego methods (default: all registered).")
-    @click.option("--dataset", type=click.Path(dir_okay=False), help="Cache of the features (.npz): read if present, else written.")
+    @click.option("--dataset", type=click.Path(dir_okay=False),
+                  help="Cache of the features (.npz): read if present and built for the same covers, methods and sets, else written.")
+    @click.option("--protocol", "proto", type=click.Choice(["splits", "sources"]), default="splits", show_default=True,
+                  help="splits: the thesis' random cover-level splits; sources: leave one source out (per-source table).")
+    @click.option("--dedup/--no-dedup", default=True, show_default=True,
+                  help="Drop covers that are the same geometry as another (byte-identical or another format / order).")
     @click.option("--csv", "csv_path", type=click.Path(dir_okay=False), help="Write one row per split and detector.")
     @click.option("--json", "as_json", is_flag=True, help="Print the median table as JSON.")
-    def evaluate_cmd(covers, feature_set, classifier, splits, test_fraction, methods, dataset, csv_path, as_json):
-        """Thesis chapter 8 protocol on COVERS: random cover-level splits, specific and universal
-        detectors, median accuracy / TPR / FPR / P_E."""
+    def evaluate_cmd(covers, feature_set, classifier, splits, test_fraction, methods, dataset, proto, dedup, csv_path,
+                     as_json):
+        """Thesis chapter 8 protocol on COVERS: random cover-level splits (or, with --protocol sources,
+        leave one source out), specific and universal detectors, median accuracy / TPR / FPR / P_E."""
         from . import protocol as P
 
+        if dataset:
+            check_output_path(dataset)
+        paths = P.mesh_files(covers)
+        if not paths:
+            raise MeshError(f"empty corpus: no meshes in {', '.join(covers)}")
+        if dedup:
+            from .sources import deduplicate
+            paths = [g[0] for g in deduplicate(paths)]
+        ms = methods.split(",") if methods else None
+        sets = tuple(feature_set.split("+"))
+        key = P.dataset_key(paths, ms, sets)
         ds = None
         if dataset and pathlib.Path(dataset).is_file():
-            ds = P.load_dataset(dataset)
-            P.dataset_features(ds, feature_set)  # MeshError if a set is missing
+            ds = P.load_dataset(dataset, expect_key=key)  # MeshError when built for other covers / methods / sets
         if ds is None:
-            paths = P.mesh_files(covers)
-            if not paths:
-                raise MeshError(f"empty corpus: no meshes in {', '.join(covers)}")
-            ms = methods.split(",") if methods else None
             with P.one_thread():
-                ds = P.build_dataset(paths, ms, tuple(feature_set.split("+")))
+                ds = P.build_dataset(paths, ms, sets)
             if dataset:
-                P.save_dataset(ds, dataset)
+                P.save_dataset(ds, dataset, key=key)
+        if proto == "sources":
+            from .loso import evaluate_by_source, source_table
+            rows = evaluate_by_source(ds, feature_set, classifier)
+            table = source_table(rows)
+            if csv_path:
+                with open(csv_path, "w", newline="") as f:
+                    w = csv.DictWriter(f, fieldnames=sorted({k for r in rows for k in r}))
+                    w.writeheader()
+                    w.writerows(rows)
+            text = "| source | covers | universal | universal@5% | FPR | TPR |\n|---|---:|---:|---:|---:|---:|\n" + "\n".join(
+                f"| {r['source']} | {r['n_covers']} | {r['universal']:.3f} | {r['universal@fpr']:.3f} | {r['fpr']:.3f} | "
+                f"{r['tpr']:.3f} |" for r in table)
+            _emit({"feature_set": feature_set, "classifier": classifier, "protocol": "sources", "table": table},
+                  as_json, text)
+            return
         rows = P.evaluate(ds, feature_set, classifier, splits, test_fraction)
         if csv_path:
             with open(csv_path, "w", newline="") as f:

@@ -187,15 +187,52 @@ def build_dataset(paths, methods=None, feature_sets=("yang208",), seed: int = 0,
             "X": {s: np.array(v, float).reshape(len(rows_c), -1) for s, v in X.items()}, "failed": failed}
 
 
-def save_dataset(ds, path):
-    arrays = {"cover": ds["cover"], "method": ds["method"].astype(str), "path": np.array(ds["path"], dtype=str)}
+def dataset_key(paths, methods, feature_sets, seed: int = 0) -> str:
+    """What a cached dataset was built from: sha256 over the covers (file name and sha256 of its bytes, in
+    order), the stego methods (None: every registered one, listed), the feature sets, the seed and
+    features.FEATURES_VERSION. load_dataset refuses a cache whose key differs (issue 23)."""
+    import hashlib
+    import json
+    from .features import FEATURES_VERSION
+    h = hashlib.sha256()
+    for p in paths:
+        p = pathlib.Path(p)
+        h.update(p.name.encode() + b"\0" + hashlib.sha256(p.read_bytes()).hexdigest().encode() + b"\n")
+    ms = list(STEGO_METHODS) if methods is None else list(methods)
+    h.update(json.dumps({"methods": ms, "sets": list(feature_sets), "seed": int(seed),
+                         "features_version": FEATURES_VERSION}).encode())
+    return h.hexdigest()
+
+
+def save_dataset(ds, path, key: str | None = None):
+    from .features import FEATURES_VERSION
+    arrays = {"cover": ds["cover"], "method": ds["method"].astype(str), "path": np.array(ds["path"], dtype=str),
+              "features_version": np.array(FEATURES_VERSION)}
+    if key:
+        arrays["key"] = np.array(key)
     for s, v in ds["X"].items():
         arrays["X_" + s] = v
     np.savez_compressed(path, **arrays)
 
 
-def load_dataset(path) -> dict:
-    z = np.load(path, allow_pickle=False)
+def load_dataset(path, expect_key: str | None = None) -> dict:
+    """A dataset saved by save_dataset. With ``expect_key`` (dataset_key of what the caller would build),
+    MeshError unless the file was built for exactly those covers, methods, sets and features version."""
+    from .features import FEATURES_VERSION
+    try:
+        z = np.load(path, allow_pickle=False)
+        files = set(z.files)
+    except Exception as exc:
+        raise MeshError(f"{path} is not a steganalysis dataset ({exc})") from None
+    if not {"cover", "method", "path"} <= files:
+        raise MeshError(f"{path} is not a steganalysis dataset (no cover/method/path arrays)")
+    fv = int(z["features_version"]) if "features_version" in files else 2
+    if fv != FEATURES_VERSION:
+        raise MeshError(f"dataset {path} holds features of version {fv}; this meshmark computes version "
+                        f"{FEATURES_VERSION}: delete it (or name another --dataset) to rebuild")
+    if expect_key is not None and ("key" not in files or str(z["key"]) != expect_key):
+        raise MeshError(f"dataset {path} was built for other covers, stego methods or feature sets: delete it "
+                        f"(or name another --dataset) to rebuild it for these")
     return {"cover": z["cover"], "method": z["method"].astype(object), "path": list(z["path"]),
             "X": {k[2:]: z[k] for k in z.files if k.startswith("X_")}, "failed": []}
 

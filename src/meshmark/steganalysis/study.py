@@ -9,14 +9,16 @@ One spec reproduces every table of docs/steganalysis.md from scratch (``examples
     parts = ["protocol", "cho_table"]          # the ch. 8 protocol; thesis Table 6.2 (§6.4)
     folders = ["../../../shared/meshes/corpus-large", ...]   # covers (relative to the spec)
     subset = ""                                 # only covers whose path contains this (e.g. "psb-seg")
-    feature_sets = ["yang208", "lfs76", "nvt36"]
+    feature_sets = ["yang208", "lfs76s", "nvt36s"]
     runs = [{ set = "yang208", classifier = "qda" }, { set = "yang208", classifier = "ensemble" }, ...]
     splits = 30
     test_fraction = 0.3
     pca_k = [1, 2, 5, ...]                      # accuracy vs PCA components, YANG208 + QDA (Figs. 8.3-8.5); [] = skip
     universal = ["pick"]                        # universal training variants (protocol.UNIVERSAL)
     holdout = 20                                # procedural covers not in ../shared
-    holdout_set = "yang208+lfs76+nvt36"
+    holdout_set = "yang208+lfs76s+nvt36s"
+    by_source = [["yang208+lfs76s+nvt36s", "ensemble"]]   # leave one source out (loso.py); [] = skip
+    dedup = true                                # drop covers with the geometry of another (sources.deduplicate)
     [steganalysis.cho_table]
     folders = ["../../../shared/meshes/corpus", "../../../shared/meshes/corpus-large"]
     variants = true
@@ -46,8 +48,8 @@ KIND = "steganalysis"
 KEYS = {"parts", "folders", "subset", "feature_sets", "runs", "splits", "test_fraction", "pca_k", "holdout",
         "holdout_set", "cho_table", "methods", "universal", "seed", "limit"}
 PARTS = {"protocol", "cho_table"}
-DEFAULT_RUNS = [("yang208", "qda"), ("yang208", "ensemble"), ("lfs76", "ensemble"), ("nvt36", "ensemble"),
-                ("lfs76+nvt36", "ensemble"), ("yang208+lfs76+nvt36", "ensemble")]
+DEFAULT_RUNS = [("yang208", "qda"), ("yang208", "ensemble"), ("lfs76s", "ensemble"), ("nvt36s", "ensemble"),
+                ("lfs76s+nvt36s", "ensemble"), ("yang208+lfs76s+nvt36s", "ensemble")]
 THESIS = "specific > 80 % (Figs. 8.3-8.4; LSB and Cho variance > 90 %), universal ~75 % (Fig. 8.5)"
 
 
@@ -126,17 +128,25 @@ def protocol(cfg: dict, base: pathlib.Path, out: pathlib.Path, log) -> list[str]
     L = []
     t0 = time.perf_counter()
     cache = out / "dataset.npz"
-    fsets = tuple(cfg.get("feature_sets", ("yang208", "lfs76", "nvt36")))
+    fsets = tuple(cfg.get("feature_sets", ("yang208", "lfs76s", "nvt36s")))
+    files = P.mesh_files(_paths(base, cfg.get("folders"), "folders"))
+    if cfg.get("limit"):
+        files = files[: int(cfg["limit"])]
+    if cfg.get("dedup", True):
+        from .sources import deduplicate
+        files = [g[0] for g in deduplicate(files)]
+    key = P.dataset_key(files, cfg.get("methods"), fsets, seed=int(cfg.get("seed", 0)))
+    ds = None
     if cache.is_file():
-        ds = P.load_dataset(cache)
-        log(f"[steganalysis] reusing {cache}")
-    else:
-        files = P.mesh_files(_paths(base, cfg.get("folders"), "folders"))
-        if cfg.get("limit"):
-            files = files[: int(cfg["limit"])]
+        try:
+            ds = P.load_dataset(cache, expect_key=key)
+            log(f"[steganalysis] reusing {cache}")
+        except MeshError as exc:  # the study's own cache, built for another spec: rebuilt
+            log(f"[steganalysis] not reusing {cache}: {exc}")
+    if ds is None:
         with P.one_thread():
             ds = P.build_dataset(files, cfg.get("methods"), fsets, seed=int(cfg.get("seed", 0)), log=log)
-        P.save_dataset(ds, cache)
+        P.save_dataset(ds, cache, key=key)
     t_data = time.perf_counter() - t0
     if cfg.get("subset"):
         ds = P.subset(ds, cfg["subset"])
@@ -147,7 +157,7 @@ def protocol(cfg: dict, base: pathlib.Path, out: pathlib.Path, log) -> list[str]
             for r in cfg["runs"]] if "runs" in cfg else [(s, c, "pick", {}) for s, c in DEFAULT_RUNS]
     for u in cfg.get("universal", []):
         if u != "pick":
-            runs.append(("yang208+lfs76+nvt36", "ensemble", u, {}))
+            runs.append(("yang208+lfs76s+nvt36s", "ensemble", u, {}))
     rows, table = [], []
     t1 = time.perf_counter()
     for fs, c, uni, params in runs:
@@ -160,6 +170,24 @@ def protocol(cfg: dict, base: pathlib.Path, out: pathlib.Path, log) -> list[str]
         table += [{"feature_set": fs, "classifier": c, "universal_training": uni, "params": ptext, **m}
                   for m in P.median_table(r)]
         log(f"[steganalysis] {fs} + {c} ({uni}): {time.perf_counter() - t:.0f} s")
+    for fs, c in [tuple(x) for x in cfg.get("by_source", [])]:  # the headline protocol: leave one source out
+        from .loso import evaluate_by_source, source_table
+        t = time.perf_counter()
+        lr = evaluate_by_source(ds, fs, c)
+        for x in lr:
+            x.update(feature_set=fs, classifier=c)
+        st = source_table(lr)
+        _write_csv(out / f"sources_{fs}_{c}.csv", lr)
+        _write_csv(out / f"sources_table_{fs}_{c}.csv", st)
+        log(f"[steganalysis] leave-one-source-out {fs} + {c}: {time.perf_counter() - t:.0f} s")
+        meths = sorted({k.split(":", 1)[1] for d in st for k in d if k.startswith("specific:")})
+        L.append(f"\nLeave one source out, {fs} + {c} (universal: accuracy at 0.5 and at the threshold calibrated to "
+                 f"5 % FPR on the training sources; FPR / TPR at that threshold; specific detectors' accuracy)")
+        L.append("| source | covers | universal | universal@5% | FPR | TPR | " + " | ".join(meths) + " |")
+        L.append("|---|---:|---:|---:|---:|---:|" + "---:|" * len(meths))
+        for d in st:
+            L.append(f"| {d['source']} | {d['n_covers']} | {d['universal']:.3f} | {d['universal@fpr']:.3f} | {d['fpr']:.3f} | "
+                     f"{d['tpr']:.3f} | " + " | ".join(f"{d.get('specific:' + m, float('nan')):.3f}" for m in meths) + " |")
     t_train = time.perf_counter() - t1
     _write_csv(out / "protocol_splits.csv", rows)
     _write_csv(out / "protocol_median.csv", table)
@@ -196,7 +224,7 @@ def protocol(cfg: dict, base: pathlib.Path, out: pathlib.Path, log) -> list[str]
             L.append(f"| {k} | " + " | ".join(f"{cs[d]['median_accuracy']:.3f}" for d in dets) + " |")
     _plots(out, table, curve, splits)
     if int(cfg.get("holdout", 0)):
-        hs = cfg.get("holdout_set", "yang208+lfs76+nvt36")
+        hs = cfg.get("holdout_set", "yang208+lfs76s+nvt36s")
         hr = holdout(ds, procedural_covers(int(cfg["holdout"])), hs)
         _write_csv(out / "protocol_holdout.csv", hr)
         L.append(f"\nHoldout: {cfg['holdout']} procedural covers not in ../shared, {hs} + ensemble trained on the whole dataset")

@@ -1,0 +1,80 @@
+"""The published LFS76 and NVT36 (``--set lfs76``, ``--set nvt36``) against the authors' own code, run under
+GNU Octave 7.3 on shared meshes (numbers and provenance in tests/data/steganalysis_authors_reference.json;
+docs/steganalysis.md §3)."""
+import json
+
+import numpy as np
+
+import meshmark
+from meshmark.steganalysis import features as feat
+from conftest import ROOT, shared_mesh
+
+REF = json.loads((ROOT / "tests" / "data" / "steganalysis_authors_reference.json").read_text())
+ISSUE_BUNNY = [float(x) for x in (  # issue 25: NVT36 of classic/bunny.obj from the authors' code, 4 digits
+    "-5.979 2.525 -0.4554 4.629 -6.091 2.585 -0.5474 7.349 -8.251 5.91 -4.943 54.04 -2.314 37.96 -5.064 27.83 "
+    "-5.376 32.48 -4.8 26.04 -6.795 30.63 -4.668 24.87 -0.2228 1.446 -1.378 5.948 -3.293 2.225 -0.5099 4.055 "
+    "-4.539 1.932 -0.7147 4.623").split()]
+
+
+def _features(name, fset):
+    m = meshmark.read_mesh(shared_mesh(name))
+    return feat.features((m.V, m.triangles), fset)
+
+
+def test_nvt36_equals_the_authors_code_on_the_bunny():
+    """Every component within 1e-6 relative, except where the authors' code itself is not reproducible to
+    1e-6: an eigenvalue difference at the rounding level (a rank-deficient voting tensor: boundary faces,
+    flat rings) sits at log(2^-52 + noise), so the 3x3 eigen-solver's last bits move those statistics. For
+    them the tolerance is 2x the change the authors' code shows itself, under Octave, when the input moves
+    by one ulp (V (1 + 2^-52)) or its faces are reordered (nvt36_octave_perturbed)."""
+    octave = np.array(REF["nvt36"]["classic/bunny.obj"])
+    assert np.abs(octave - ISSUE_BUNNY).max() <= 0.006  # the run reproduces the issue's 4-digit figures
+    pert = np.array(list(REF["nvt36_octave_perturbed"].values()))
+    assert len(pert) == 2
+    spread = np.abs(pert - octave).max(0)
+    F = _features("classic/bunny.obj", "nvt36")
+    rel = np.abs(F - octave) / np.abs(octave)
+    stable = spread <= 1e-6 * np.abs(octave)
+    assert stable.sum() >= 20, stable.sum()
+    assert rel[stable].max() <= 1e-6, (np.flatnonzero(stable & (rel > 1e-6)), rel[stable].max())
+    assert (np.abs(F - octave)[~stable] <= 2 * spread[~stable]).all(), (rel[~stable], (spread / np.abs(octave))[~stable])
+
+
+def test_nvt36_equals_the_authors_code_on_closed_meshes():
+    for name, octave in REF["nvt36"].items():
+        if name == "classic/bunny.obj":
+            continue
+        octave = np.array(octave)
+        rel = np.abs(_features(name, "nvt36") - octave) / np.maximum(np.abs(octave), 1e-300)
+        assert np.median(rel) <= 1e-6, (name, rel)
+
+
+def test_lfs76_rotation_invariant_components_equal_the_authors_code():
+    """f37-40 (dihedral angles) and f49-52 (curvature ratio) do not depend on the published projection
+    (trans * V): on closed meshes they equal the authors' code to 1e-6 relative."""
+    assert len(REF["lfs76"]) >= 2
+    for name, octave in REF["lfs76"].items():
+        octave = np.array(octave)
+        F = _features(name, "lfs76")
+        inv = np.r_[36:40, 48:52]
+        rel = np.abs(F[inv] - octave[inv]) / np.abs(octave[inv])
+        assert rel.max() <= 1e-6, (name, rel)
+
+
+def test_lfs76_equals_the_authors_code_with_the_corrected_projection():
+    """With the one-character fix trans' * V in preprocess.m, all 76 components (PCA signs as MATLAB's pca)."""
+    assert REF["lfs76_fixed_projection"]
+    for name, octave in REF["lfs76_fixed_projection"].items():
+        octave = np.array(octave)
+        rel = np.abs(_features(name, "lfs76") - octave) / np.abs(octave)
+        assert rel.max() <= 1e-6, (name, feat.feature_names("lfs76")[int(np.argmax(rel))], rel.max())
+
+
+def test_published_lfs76_extends_to_open_meshes_and_names():
+    """The published code stops on a boundary edge (meshDihedralAngles indexes face 0); here those edges are
+    left out of 37-40 and everything else is as published."""
+    F = _features("classic/camelhead.off", "lfs76")
+    assert F.shape == (76,) and np.isfinite(F).all()
+    names = feat.feature_names("lfs76")
+    assert names[:4] == ["cart_dx:log_mean", "cart_dy:log_mean", "cart_dz:log_mean", "cart_dx:log_var"]
+    assert names[36] == "dihedral:log_mean" and len(names) == 76
