@@ -263,7 +263,7 @@ def main():
             model.set_guard(X, a.margin, cal["max_outside"], ood_target=a.ood_fpr)
         if a.domain_rate > 0:
             c = ~y
-            dom = model.set_domain(X[c], groups[c], rate=a.domain_rate, groups="a file with its variants, or one generated mesh")
+            dom = model.set_domain(X[c], groups[c], rate=a.domain_rate, group_kind="a file with its variants, or one generated mesh")
             model.training["domain"] = dom
     model.save(a.out)
     print(f"wrote {a.out} ({pathlib.Path(a.out).stat().st_size / 1024:.0f} KB): {training['n_covers']} covers "

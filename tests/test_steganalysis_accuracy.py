@@ -108,7 +108,7 @@ def test_logreg_model_file_roundtrip(tmp_path):
     m2 = Model.load(tmp_path / "m.npz")
     assert m.detect_features(X[3]) == m2.detect_features(X[3])
     meta = json.loads(bytes(np.load(tmp_path / "m.npz")["meta"]).decode())
-    assert meta["format_version"] == 2 and meta["detectors"]["universal"]["kind"] == "logreg"
+    assert meta["format_version"] == 3 and meta["detectors"]["universal"]["kind"] == "logreg"
     with pytest.raises(MeshError, match="protocol only"):
         Model.train(X, y, lab, "yang208", "forest", n_trees=5).save(tmp_path / "f.npz")
     assert not (tmp_path / "f.npz").exists()
