@@ -1,5 +1,6 @@
 #include "bindings.h"
 
+#include "meshmark/cho_margin_test.h"
 #include "meshmark/cho_steganalysis.h"
 #include "meshmark/cho_watermark.h"
 #include "meshmark/error.h"
@@ -157,8 +158,21 @@ void bind_radial(py::module_& m) {
   m.def("bhattacharyya_distance", &bhattacharyya_distance, py::arg("mean1"), py::arg("var1"), py::arg("mean2"),
         py::arg("var2"));
 
+  m.def("cho_margin_test", [](std::vector<double> mean, std::vector<int> count, int trim, int min_count, int min_bins) {
+          if (mean.size() != count.size()) throw MeshError("cho_margin_test: mean and count differ in length");
+          const ChoMarginTest t = cho_margin_test(mean, count, trim, min_count, min_bins);
+          py::dict d;
+          d["ok"] = t.ok;
+          d["log_p"] = t.log_p;
+          d["hole"] = t.hole;
+          d["q"] = t.q;
+          d["n_bins"] = t.n_bins;
+          d["n_above"] = t.n_above;
+          return d;
+        }, py::arg("mean"), py::arg("count"), py::arg("trim") = 3, py::arg("min_count") = 5, py::arg("min_bins") = 8);
+
   m.def("cho_steganalysis", [](VRef V, MRef mask, int K_min, int K_max, double eps, double eps2, int min_bins,
-                               double reg_covar) {
+                               double reg_covar, bool fit_em, int trim, int min_count, double false_alarm) {
           check_mask(V, mask);
           ChoSteganalysisOptions o;
           o.K_min = K_min;
@@ -167,15 +181,21 @@ void bind_radial(py::module_& m) {
           o.eps2 = eps2;
           o.min_bins = min_bins;
           o.reg_covar = reg_covar;
+          o.fit_em = fit_em;
+          o.trim = trim;
+          o.min_count = min_count;
+          o.false_alarm = false_alarm;
           ChoSteganalysisResult r;
           {
             py::gil_scoped_release release;
             r = cho_steganalysis(V, mask, o);
           }
           py::dict d;
+          d["K_max_used"] = r.K_max_used;
           d["k_estimate"] = r.K_estimate;
           d["bhattacharyya"] = r.D_max;
           d["D"] = std::move(r.D);
+          d["loglik"] = std::move(r.loglik);
           d["min_C"] = r.min_C;
           d["max_Ctilde"] = r.max_Ctilde;
           d["size_C"] = r.size_C;
@@ -184,9 +204,22 @@ void bind_radial(py::module_& m) {
           d["eq_6_4_17"] = r.eq_6_4_17;
           d["balance"] = r.balance;
           d["marked"] = r.marked;
+          d["log_p"] = std::move(r.log_p);
+          d["hole"] = std::move(r.hole);
+          d["n_bins"] = std::move(r.n_bins);
+          d["k_margin"] = r.K_margin;
+          d["n_tests"] = r.n_tests;
+          d["log_p_min"] = r.log_p_min;
+          d["log_p_scan"] = r.log_p_scan;
+          d["margin"] = r.margin;
+          d["q"] = r.q;
+          d["margin_bins"] = r.margin_bins;
+          d["margin_above"] = r.margin_above;
+          d["margin_marked"] = r.margin_marked;
           return d;
         }, py::arg("V"), py::arg("mask"), py::arg("K_min") = 1, py::arg("K_max") = 500, py::arg("eps") = 0.15,
-        py::arg("eps2") = 0.03, py::arg("min_bins") = 8, py::arg("reg_covar") = 1e-6);
+        py::arg("eps2") = 0.03, py::arg("min_bins") = 8, py::arg("reg_covar") = 1e-6, py::arg("fit_em") = true,
+        py::arg("trim") = 3, py::arg("min_count") = 5, py::arg("false_alarm") = 0.01);
 }
 
 }  // namespace meshmark::python

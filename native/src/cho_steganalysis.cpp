@@ -1,7 +1,9 @@
 #include "meshmark/cho_steganalysis.h"
+#include "meshmark/cho_bin_means.h"
+#include "meshmark/cho_margin_test.h"
+#include "meshmark/cho_norms.h"
 #include "meshmark/error.h"
 #include "meshmark/gaussian_mixture.h"
-#include "meshmark/radial_distances.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,48 +17,55 @@ ChoSteganalysisResult cho_steganalysis(const Eigen::Ref<const MatrixX3dR>& V, co
   if (o.K_min < 1 || o.K_max < o.K_min)
     throw MeshError("need 1 <= K_min <= K_max, got K_min=" + std::to_string(o.K_min) + ", K_max=" +
                     std::to_string(o.K_max));
-  const Eigen::Vector3d c = masked_centroid(V, mask);
-  const Eigen::VectorXd rho = radial_distances(V, mask, c);
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  Eigen::Index i_lo = -1, i_hi = -1;
-  for (Eigen::Index i = 0; i < rho.size(); ++i)
-    if (mask[i]) {
-      if (rho[i] < lo) lo = rho[i], i_lo = i;
-      if (rho[i] > hi) hi = rho[i], i_hi = i;
-    }
-  if (!(hi - lo > 1e-10 * hi))  // equal up to rounding
-    throw MeshError("all vertices are at the same distance from the centre: nothing to analyse");
-  std::vector<double> r;  // Cho's two reference vertices belong to no bin (as in cho_bins)
-  r.reserve(rho.size());
-  for (Eigen::Index i = 0; i < rho.size(); ++i)
-    if (mask[i] && i != i_lo && i != i_hi) r.push_back(rho[i]);
-
+  if (o.trim < 0 || o.min_count < 1 || o.min_bins < 2 || !(o.eps >= 0) || !(o.eps2 >= 0) ||
+      !(o.false_alarm > 0 && o.false_alarm < 1))
+    throw MeshError("cho_steganalysis: option out of range");
+  const ChoNorms norms = cho_norms(V, mask);
+  // a Cho mark has at most one bin per vertex: K beyond the vertex count is not scanned
+  const long long n_vertices = static_cast<long long>(norms.r.size()) + 2;
   ChoSteganalysisResult out;
-  out.D = Eigen::VectorXd::Constant(o.K_max - o.K_min + 1, -std::numeric_limits<double>::infinity());
-  std::vector<double> sum, means;
+  out.K_max_used = static_cast<int>(std::min<long long>(o.K_max, std::max<long long>(n_vertices, o.K_min)));
+  const int nK = out.K_max_used - o.K_min + 1;
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  out.D = Eigen::VectorXd::Constant(nK, -inf);
+  out.loglik = Eigen::VectorXd::Constant(nK, nan);
+  out.log_p = Eigen::VectorXd::Constant(nK, nan);
+  out.hole = Eigen::VectorXd::Constant(nK, nan);
+  out.n_bins = VectorXi::Zero(nK);
+  std::vector<double> mean, means;
   std::vector<int> cnt;
   GaussianMixture2 best_fit;
   std::vector<double> best_means;
-  for (int K = o.K_min; K <= o.K_max; ++K) {
-    const double W = (hi - lo) / K;
-    sum.assign(K, 0.0);
-    cnt.assign(K, 0);
-    for (const double x : r) {  // the binning and normalisation of cho_bins
-      int k = static_cast<int>((x - lo) / W);  // floor: x >= lo
-      k = std::min(std::max(k, 0), K - 1);
-      sum[k] += std::min(std::max((x - (lo + W * k)) / W, 0.0), 1.0);
-      ++cnt[k];
+  ChoMarginTest best_margin;
+  for (int K = o.K_min; K <= out.K_max_used; ++K) {
+    const int j = K - o.K_min;
+    cho_bin_means(norms, K, mean, cnt);  // eq. 6.4.13
+    // the margin rule
+    const ChoMarginTest t = cho_margin_test(mean, cnt, o.trim, o.min_count, o.min_bins);
+    out.n_bins[j] = t.n_bins;
+    if (t.ok) {
+      out.log_p[j] = t.log_p;
+      out.hole[j] = t.hole;
+      ++out.n_tests;
+      if (out.K_margin == 0 || t.log_p < out.log_p_min) {
+        out.K_margin = K;
+        out.log_p_min = t.log_p;
+        best_margin = t;
+      }
     }
+    if (!o.fit_em) continue;
+    // the thesis' rule
     means.clear();
     for (int k = 0; k < K; ++k)
-      if (cnt[k] > 0) means.push_back(sum[k] / cnt[k]);  // eq. 6.4.13
+      if (cnt[k] > 0) means.push_back(mean[k]);
     if (static_cast<int>(means.size()) < std::max(o.min_bins, 2)) continue;
     GaussianMixture2 g = gaussian_mixture_2(means, o.reg_covar);
     if (!g.ok) continue;
     const int n1 = static_cast<int>(g.label.sum()), n0 = static_cast<int>(means.size()) - n1;
     if (std::min(n0, n1) < 2) continue;
     const double D = bhattacharyya_distance(g.mean[0], g.var[0], g.mean[1], g.var[1]);  // eq. 6.4.14
-    out.D[K - o.K_min] = D;
+    out.D[j] = D;
+    out.loglik[j] = g.lower_bound;
     if (out.K_estimate == 0 || D > out.D_max) {  // eq. 6.4.15 (first maximum)
       out.K_estimate = K;
       out.D_max = D;
@@ -64,10 +73,18 @@ ChoSteganalysisResult cho_steganalysis(const Eigen::Ref<const MatrixX3dR>& V, co
       best_means = means;
     }
   }
+  if (out.n_tests > 0) {
+    out.log_p_scan = std::min(0.0, out.log_p_min + std::log(static_cast<double>(out.n_tests)));  // Bonferroni
+    out.margin = best_margin.hole;
+    out.q = best_margin.q;
+    out.margin_bins = best_margin.n_bins;
+    out.margin_above = best_margin.n_above;
+    out.margin_marked = out.log_p_scan <= std::log(o.false_alarm);
+  }
   if (out.K_estimate == 0) return out;
   const int hi_c = best_fit.mean[1] > best_fit.mean[0] ? 1 : 0;  // C: the cluster of larger mean
-  out.min_C = std::numeric_limits<double>::infinity();
-  out.max_Ctilde = -std::numeric_limits<double>::infinity();
+  out.min_C = inf;
+  out.max_Ctilde = -inf;
   for (size_t i = 0; i < best_means.size(); ++i) {
     if (best_fit.label[i] == hi_c) {
       out.min_C = std::min(out.min_C, best_means[i]);

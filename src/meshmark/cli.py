@@ -53,9 +53,8 @@ def _format_info(path: str, d: dict) -> str:
 def _option_name(ctx, param: str) -> str:
     """The command-line spelling of an API parameter name (``n_robust`` -> ``--n-robust``) for the
     command being run, found among its click options."""
-    cmd, sub = ctx.command, ctx
-    args = list(ctx.protected_args) + list(ctx.args) if hasattr(ctx, "protected_args") else list(ctx.args)
-    for a in args:  # walk down nested groups (steganalysis cho, ...)
+    cmd = ctx.command
+    for a in ctx.meta.get("meshmark.args", ()):  # walk down nested groups (steganalysis cho, ...)
         nxt = cmd.get_command(ctx, a) if isinstance(cmd, click.Group) else None
         if nxt is None:
             break
@@ -74,6 +73,8 @@ class _Group(click.Group):
 
     def invoke(self, ctx):
         debug = bool(ctx.params.get("debug")) or os.environ.get("MESHMARK_DEBUG") == "1"
+        # the command line below the group, kept for _option_name: click empties ctx.args as it invokes
+        ctx.meta["meshmark.args"] = [*getattr(ctx, "_protected_args", ()), *ctx.args]
         try:
             return super().invoke(ctx)
         except MeshError as exc:
@@ -377,40 +378,7 @@ def steganalysis():
     """Detect hidden information without a key."""
 
 
-@steganalysis.command("cho")
-@click.argument("inp", metavar="IN")
-@click.option("--k-min", "K_min", type=int, default=1, show_default=True, help="Smallest bin number tried.")
-@click.option("--k-max", "K_max", type=int, default=500, show_default=True, help="Largest bin number tried.")
-@click.option("--eps", type=float, default=0.15, show_default=True, help="eq. 6.4.16 tolerance.")
-@click.option("--eps2", type=float, default=0.03, show_default=True, help="eq. 6.4.17 balance tolerance (with --thesis-exact).")
-@click.option("--thesis-exact", is_flag=True, help="Literal eq. 6.4.17 instead of the binomial balance test.")
-@click.option("--false-reject", type=float, default=0.01, show_default=True,
-              help="Balance test: rate at which random-message marks are rejected.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def steganalysis_cho(inp, K_min, K_max, eps, eps2, thesis_exact, false_reject, as_json):
-    """Does IN carry a watermark of Cho et al.'s mean method? (thesis §6.4)
-
-    Exit status: 0 marked, 1 not marked, 2 usage/input error, 3 internal error.
-    """
-    from . import read_mesh
-    from .steganalysis.cho import analyze
-
-    mesh = read_mesh(inp)
-    r = analyze(mesh, K_min=K_min, K_max=K_max, eps=eps, eps2=eps2, thesis_exact=thesis_exact,
-                false_reject=false_reject)
-    d = {"input": inp, "k_estimate": int(r["k_estimate"]), "bhattacharyya": float(r["bhattacharyya"]),
-         "marked": bool(r["marked"]), "eq_6_4_16": bool(r["eq_6_4_16"]), "eq_6_4_17": bool(r["eq_6_4_17"]),
-         "min_C": float(r["min_C"]), "max_Ctilde": float(r["max_Ctilde"]), "size_C": int(r["size_C"]),
-         "size_Ctilde": int(r["size_Ctilde"]), "balance_test": bool(r["balance_test"]),
-         "p_balance": float(r["p_balance"]), "thesis_exact": bool(thesis_exact)}
-    rule = "(literal eq. 6.4.17)" if thesis_exact else f"(binomial, p = {d['p_balance']:.3g})"
-    text = (f"{inp}: {'MARKED' if d['marked'] else 'clean'} (Cho mean method)\n"
-            f"estimated bins K' = {d['k_estimate']}  Bhattacharyya D = {d['bhattacharyya']:.4g}\n"
-            f"clusters {d['size_C']} / {d['size_Ctilde']}, min C {d['min_C']:.4f}, max C~ {d['max_Ctilde']:.4f}; "
-            f"eq. 6.4.16 {'holds' if d['eq_6_4_16'] else 'fails'}, eq. 6.4.17 {'holds' if d['eq_6_4_17'] else 'fails'}; "
-            f"balance rule {rule} {'holds' if d['balance_test'] else 'fails'}")
-    _emit(d, as_json, text)
-    sys.exit(0 if d["marked"] else 1)
+from .steganalysis.cho_cli import add_command as _cho_command; _cho_command(steganalysis)  # noqa: E402,E702 (steganalysis cho)
 
 
 from .stego.cli import stego as _stego_cli; main.add_command(_stego_cli)  # noqa: E402  (meshmark stego ...)

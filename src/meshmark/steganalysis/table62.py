@@ -18,8 +18,10 @@ a uniformly random message instead of a balanced one (eq. 6.4.17), the robust mo
 20 centre re-synchronisations: no centroid drift), and alpha = 0.02 / 0.06 (the ends of the range
 §8.2 draws alpha from).
 
-Two decisions per row: ``marked`` (the default binomial balance test, false-reject 1 %) and
-``marked_thesis`` (eq. 6.4.17 literally, eps' = 0.03; docs/steganalysis.md §5).
+Three decisions per row: ``marked_margin`` (the detector's default margin rule, false-alarm level 1 %
+over the K scan; docs/radial.md §3.2), ``marked`` (the thesis' rule with the binomial balance test,
+false-reject 1 %) and ``marked_thesis`` (the thesis' rule with eq. 6.4.17 literally, eps' = 0.03;
+docs/steganalysis.md §5). ``k_estimate`` is the thesis' K' (eq. 6.4.15), ``k_margin`` the margin rule's.
 
 Writes OUT.csv (one row per model and case: D at K' and at the true K, eqs. 6.4.16/17, ...),
 OUT_summary.csv (per folder, combined and per size class) and OUT.png (K accuracy and detection
@@ -77,10 +79,12 @@ def mark(V, method, bits, alpha, robust):
 
 def analyse_row(V, true_k):
     r = stega.analyze(V)
-    D = np.asarray(r["D"])
-    return {"k_estimate": r["k_estimate"], "D": r["bhattacharyya"],
-            "D_true": float(D[true_k - 1]) if true_k else float("nan"), "marked": bool(r["marked"]),
-            "marked_thesis": bool(r["eq_6_4_16"] and r["eq_6_4_17"]), "p_balance": r["p_balance"],
+    D, lp = np.asarray(r["D"]), np.asarray(r["log10_p"])
+    at = (lambda a: float(a[true_k - 1]) if 0 < true_k <= len(a) else float("nan"))  # noqa: E731 (K_min = 1)
+    return {"k_estimate": r["k_thesis"], "D": r["bhattacharyya"], "D_true": at(D), "marked": bool(r["marked_thesis"]),
+            "marked_thesis": bool(r["eq_6_4_16"] and r["eq_6_4_17"]), "k_margin": r["k_margin"],
+            "marked_margin": bool(r["marked_margin"]), "p_value": r["p_value"], "log10_p_true": at(lp),
+            "p_balance": r["p_balance"],
             "eq_6_4_16": bool(r["eq_6_4_16"]), "eq_6_4_17": bool(r["eq_6_4_17"]), "min_C": r["min_C"],
             "max_Ctilde": r["max_Ctilde"], "size_C": r["size_C"], "size_Ctilde": r["size_Ctilde"]}
 
@@ -90,11 +94,23 @@ def models(folder: pathlib.Path):
 
 
 FIELDS = ["folder", "path", "model", "n_vertices", "case", "bits", "alpha", "ones", "carried", "k_estimate", "D",
-          "D_true", "marked", "marked_thesis", "p_balance", "eq_6_4_16", "eq_6_4_17", "min_C", "max_Ctilde", "size_C", "size_Ctilde"]
+          "D_true", "marked", "marked_thesis", "k_margin", "marked_margin", "p_value", "log10_p_true", "p_balance", "eq_6_4_16", "eq_6_4_17", "min_C", "max_Ctilde", "size_C", "size_Ctilde"]
 
 
 def pct(flags):
     return 100.0 * float(np.mean(flags)) if len(flags) else float("nan")
+
+
+def _rates(car, bits):
+    """K accuracy and detection of the marked models ``car`` under the three decisions; ``wrong_k_margin``:
+    % of the margin rule's detections that report another K than the embedding one."""
+    det = [r for r in car if r["marked_margin"]]
+    return {"k_accuracy": pct([r["k_estimate"] == bits for r in car]), "detection": pct([r["marked"] for r in car]),
+            "detection_thesis": pct([r["marked_thesis"] for r in car]),
+            "k_accuracy_margin": pct([r["k_margin"] == bits for r in car]),
+            "detection_margin": pct([r["marked_margin"] for r in car]),
+            "wrong_k_margin": pct([r["k_margin"] != bits for r in det]), "false_positives": "",
+            "false_positives_thesis": "", "false_positives_margin": ""}
 
 
 def summarise(rows, cases):
@@ -109,17 +125,16 @@ def summarise(rows, cases):
     for g, rs in groups.items():
         clean = [r for r in rs if r["case"] == "clean"]
         out.append({"group": g, "case": "clean", "bits": 0, "models": len(clean), "marked_models": "",
-                    "k_accuracy": "", "detection": "", "detection_thesis": "",
+                    "k_accuracy": "", "detection": "", "detection_thesis": "", "k_accuracy_margin": "",
+                    "detection_margin": "", "wrong_k_margin": "",
                     "false_positives": pct([r["marked"] for r in clean]),
-                    "false_positives_thesis": pct([r["marked_thesis"] for r in clean])})
+                    "false_positives_thesis": pct([r["marked_thesis"] for r in clean]),
+                    "false_positives_margin": pct([r["marked_margin"] for r in clean])})
         for case, bits in cases:
             sel = [r for r in rs if r["case"] == case and r["bits"] == bits]
             car = [r for r in sel if r["carried"]]
             out.append({"group": g, "case": case, "bits": bits, "models": len(sel), "marked_models": len(car),
-                        "k_accuracy": pct([r["k_estimate"] == bits for r in car]),
-                        "detection": pct([r["marked"] for r in car]),
-                        "detection_thesis": pct([r["marked_thesis"] for r in car]), "false_positives": "",
-                        "false_positives_thesis": ""})
+                        **_rates(car, bits)})
     for lo, hi in SIZE_CLASSES:  # Cho as published by vertices per bin, all folders
         for case, bits in cases:
             if not case.startswith("cho"):
@@ -127,10 +142,7 @@ def summarise(rows, cases):
             car = [r for r in rows if r["case"] == case and r["bits"] == bits and r["carried"]
                    and lo <= r["n_vertices"] / bits < hi]
             out.append({"group": f"{lo}-{hi} vertices/bin", "case": case, "bits": bits, "models": len(car),
-                        "marked_models": len(car), "k_accuracy": pct([r["k_estimate"] == bits for r in car]),
-                        "detection": pct([r["marked"] for r in car]),
-                        "detection_thesis": pct([r["marked_thesis"] for r in car]), "false_positives": "",
-                        "false_positives_thesis": ""})
+                        "marked_models": len(car), **_rates(car, bits)})
     return out
 
 
@@ -147,19 +159,21 @@ def plot(rows, cases, path):
         if not car:
             continue
         vpb = np.array([r["n_vertices"] / bits for r in car])
-        kok = np.array([r["k_estimate"] == bits for r in car], float)
-        det = np.array([r["marked"] for r in car], float)
-        centres, ka, de = [], [], []
-        for lo, hi in zip(edges[:-1], edges[1:]):
-            m = (vpb >= lo) & (vpb < hi)
-            if m.sum() >= 3:
-                centres.append(np.sqrt(lo * hi))
-                ka.append(100 * kok[m].mean())
-                de.append(100 * det[m].mean())
-        label = f"{case} {bits} bits"
-        axes[0].plot(centres, ka, "o-", label=label)
-        axes[1].plot(centres, de, "o-", label=label)
-    for ax, title in zip(axes, ("accuracy of K' (eq. 6.4.15)", "detection (eqs. 6.4.16-17)")):
+        for kkey, dkey, style, rule in (("k_margin", "marked_margin", "o-", "margin"), ("k_estimate", "marked", "s--", "thesis")):
+            kok = np.array([r[kkey] == bits for r in car], float)
+            det = np.array([r[dkey] for r in car], float)
+            centres, ka, de = [], [], []
+            for lo, hi in zip(edges[:-1], edges[1:]):
+                m = (vpb >= lo) & (vpb < hi)
+                if m.sum() >= 3:
+                    centres.append(np.sqrt(lo * hi))
+                    ka.append(100 * kok[m].mean())
+                    de.append(100 * det[m].mean())
+            label = f"{case} {bits} bits, {rule} rule"
+            axes[0].plot(centres, ka, style, label=label)
+            axes[1].plot(centres, de, style, label=label)
+    for ax, title in zip(axes, ("accuracy of K (margin: argmin p_K; thesis: eq. 6.4.15)",
+                                "detection (margin 1 % scan; thesis: eqs. 6.4.16-17)")):
         ax.set_xscale("log")
         ax.set_xticks([12, 25, 50, 100, 200, 400])
         ax.set_xticklabels(["12", "25", "50", "100", "200", "400"])
@@ -167,7 +181,7 @@ def plot(rows, cases, path):
         ax.set_xlabel("vertices per bin (n / number of bits)")
         ax.set_ylabel("% of the marked models")
         ax.set_ylim(-3, 103)
-        ax.axhline(96.8 if "K'" in title else 94.6, color="k", ls=":", lw=1, label="thesis, Cho 64 bits")
+        ax.axhline(96.8 if "accuracy" in title else 94.6, color="k", ls=":", lw=1, label="thesis, Cho 64 bits")
         ax.set_title(title)
         ax.grid(alpha=0.3)
     axes[1].legend(fontsize=8, loc="lower right")
@@ -205,7 +219,8 @@ def run(folders, out, limit: int = 0, variants: bool = True, log=print) -> list[
                     Vm, carried = mark(V, method, bits, alpha, robust)
                     res = analyse_row(Vm, n) if carried else {"k_estimate": 0, "D": float("nan"),
                                                              "D_true": float("nan"), "marked": False,
-                                                             "marked_thesis": False}
+                                                             "marked_thesis": False, "k_margin": 0,
+                                                             "marked_margin": False}
                     rows.append({**base, "case": case, "bits": n, "alpha": alpha or "", "ones": int(bits.sum()),
                                  "carried": carried, **res})
             log(f"[{folder.name} {i + 1}/{len(files)}] {path.name} ({len(V)} v) {time.perf_counter() - t0:.0f} s")
@@ -222,30 +237,39 @@ def run(folders, out, limit: int = 0, variants: bool = True, log=print) -> list[
     plot(rows, case_bits, f"{out}.png")
 
     L = []
-    fmt = lambda v: "" if v == "" else f"{v:.1f}%"  # noqa: E731
-    L.append("detection: the default balance rule (binomial, false-reject 1 %); literal: eq. 6.4.17 with eps' = 0.03")
-    L.append("\n| models | method | #bits | #marked models (of) | accuracy of K | detection | literal | thesis (#, K acc, det.) |")
-    L.append("|---|---|---:|---:|---:|---:|---:|---|")
+    fmt = lambda v: "" if v == "" else ("-" if v != v else f"{v:.1f}%")  # noqa: E731 (NaN: no model)
+    L.append("margin: the default rule (1 % false-alarm level over the K scan, docs/radial.md §3.2); thesis: "
+             "K' of eq. 6.4.15 with the binomial balance rule (false-reject 1 %); literal: eq. 6.4.17 with eps' = 0.03")
+    L.append("\n| models | method | #bits | #marked models (of) | K acc. margin | det. margin | wrong K | "
+             "K acc. thesis | det. thesis | literal | thesis Table 6.2 (#, K acc, det.) |")
+    L.append("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|")
     for s in summary:
         if s["case"] in MAIN and "vertices/bin" not in s["group"]:
             t = THESIS[(s["case"], s["bits"])]
             label = "Cho's" if s["case"] == "cho" else "Ours (Yang)"
             L.append(f"| {s['group']} | {label} | {s['bits']} | {s['marked_models']} ({s['models']}) | "
-                     f"{fmt(s['k_accuracy'])} | {fmt(s['detection'])} | {fmt(s['detection_thesis'])} | {t[0]}, {t[1]}%, {t[2]}% |")
-    L.append("\n| models | false positives on clean models (default) | (literal) |\n|---|---:|---:|")
+                     f"{fmt(s['k_accuracy_margin'])} | {fmt(s['detection_margin'])} | {fmt(s['wrong_k_margin'])} | "
+                     f"{fmt(s['k_accuracy'])} | {fmt(s['detection'])} | {fmt(s['detection_thesis'])} | "
+                     f"{t[0]}, {t[1]}%, {t[2]}% |")
+    L.append("\n| models | false positives on clean models, margin | thesis (binomial) | literal |\n|---|---:|---:|---:|")
     for s in summary:
         if s["case"] == "clean":
-            L.append(f"| {s['group']} ({s['models']}) | {fmt(s['false_positives'])} | {fmt(s['false_positives_thesis'])} |")
+            L.append(f"| {s['group']} ({s['models']}) | {fmt(s['false_positives_margin'])} | "
+                     f"{fmt(s['false_positives'])} | {fmt(s['false_positives_thesis'])} |")
     if variants:
-        L.append("\n| Cho 64 bits, combined | #marked models | accuracy of K | detection | literal |\n|---|---:|---:|---:|---:|")
+        L.append("\n| Cho 64 bits, combined | #marked models | K acc. margin | det. margin | K acc. thesis | det. thesis | "
+                 "literal |\n|---|---:|---:|---:|---:|---:|---:|")
         for s in summary:
             if s["group"] == "combined" and s["case"].startswith("cho") and s["bits"] == 64:
-                L.append(f"| {s['case']} | {s['marked_models']} | {fmt(s['k_accuracy'])} | {fmt(s['detection'])} | "
+                L.append(f"| {s['case']} | {s['marked_models']} | {fmt(s['k_accuracy_margin'])} | "
+                         f"{fmt(s['detection_margin'])} | {fmt(s['k_accuracy'])} | {fmt(s['detection'])} | "
                          f"{fmt(s['detection_thesis'])} |")
-    L.append("\n| vertices per bin | case | #bits | #marked models | accuracy of K | detection |\n|---|---|---:|---:|---:|---:|")
+    L.append("\n| vertices per bin | case | #bits | #marked models | K acc. margin | det. margin | K acc. thesis | "
+             "det. thesis |\n|---|---|---:|---:|---:|---:|---:|---:|")
     for s in summary:
         if "vertices/bin" in s["group"] and s["case"] in ("cho", "cho-a0.06"):
             L.append(f"| {s['group'].split()[0]} | {s['case']} | {s['bits']} | {s['marked_models']} | "
-                     f"{fmt(s['k_accuracy'])} | {fmt(s['detection'])} |")
+                     f"{fmt(s['k_accuracy_margin'])} | {fmt(s['detection_margin'])} | {fmt(s['k_accuracy'])} | "
+                     f"{fmt(s['detection'])} |")
     L.append(f"\nwrote {out}.csv, {out}_summary.csv, {out}.png ({time.perf_counter() - t0:.0f} s)")
     return L
