@@ -258,3 +258,42 @@ def test_hausdorff_closes_on_round_off_distances():
     assert 0.0 < d["upper"] <= d["lower"] * 1.01 + 1e-12 * diag
     assert d["upper"] < 1e-12 * diag * 2
     assert d["n_queries"] < 50 * len(el.triangles)
+
+
+def _dense_samples(V, T, n, rng):
+    """Area-uniform points on the triangles, by numpy alone (independent of the native sampler)."""
+    a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    f = rng.choice(len(T), size=n, p=area / area.sum())
+    u, v = rng.random(n), rng.random(n)
+    flip = u + v > 1
+    u[flip], v[flip] = 1 - u[flip], 1 - v[flip]
+    return a[f] + u[:, None] * (b[f] - a[f]) + v[:, None] * (c[f] - a[f]), f
+
+
+def test_hausdorff_after_simplification_matches_dense_kdtree_and_cap_reports_the_bound():
+    """Issue 23: the simplified cow against its original. Independent value: scipy's cKDTree over
+    dense samples of B, queried at samples of A (uniform, then 200,000 more on the 40 triangles of A
+    holding the farthest of them: uniform samples alone miss the maximum by ~4 %), overestimates each
+    d(p, B) by at most the covering radius of B's samples; 1.5 % of the value covers it. A capped run ends early with converged False and a valid [lower, upper]."""
+    from scipy.spatial import cKDTree
+    cow = meshmark.read_mesh(shared_mesh("classic/cow.obj"))
+    s = A.simplify(cow, fraction=0.25)
+    h = M.hausdorff_distance(s, cow, rel_tol=1e-3)
+    assert h["converged"] and h["upper"] <= h["lower"] * 1.001 + 1e-12
+    rng = np.random.default_rng(5)
+    tree = cKDTree(_dense_samples(cow.V, np.asarray(cow.triangles), 1_500_000, rng)[0])
+    TA = np.asarray(s.triangles)
+    PA, fa = _dense_samples(s.V, TA, 300_000, rng)
+    d = tree.query(PA)[0]
+    order = fa[np.argsort(d)[::-1]]
+    _, first = np.unique(order, return_index=True)
+    worst = order[np.sort(first)[:40]]
+    PW, _ = _dense_samples(s.V, TA[worst], 200_000, rng)
+    kd = max(d.max(), tree.query(PW)[0].max())
+    assert kd == pytest.approx(h["lower"], rel=0.015)
+    capped = M.hausdorff_distance(s, cow, rel_tol=0, max_queries=5000)
+    assert not capped["converged"] and 5000 <= capped["n_queries"] < 5000 + 10
+    assert capped["lower"] <= h["lower"] * (1 + 1e-9) and capped["upper"] >= h["lower"] * (1 - 1e-9)
+    with pytest.raises(MeshError, match="max_queries"):
+        M.hausdorff_distance(s, cow, max_queries=0)

@@ -71,18 +71,21 @@ void bind_metrics(py::module_& m) {
           return as_dict(d);
         }, py::arg("VA"), py::arg("TA"), py::arg("VB"), py::arg("TB"), py::arg("n_samples"), py::arg("include_vertices"),
         py::arg("seed"));
-  m.def("hausdorff_distance", [](VRef VA, TRef TA, VRef VB, TRef TB, double rel_tol, double abs_tol) {
+  m.def("hausdorff_distance", [](VRef VA, TRef TA, VRef VB, TRef TB, double rel_tol, double abs_tol,
+                                  Eigen::Index max_queries) {
           HausdorffBound h;
           {
             py::gil_scoped_release release;
-            h = hausdorff_distance(VA, TA, VB, TB, rel_tol, abs_tol);
+            h = hausdorff_distance(VA, TA, VB, TB, rel_tol, abs_tol, max_queries);
           }
           py::dict d;
           d["lower"] = h.lower;
           d["upper"] = h.upper;
           d["n_queries"] = h.n_queries;
+          d["converged"] = h.converged;
           return d;
-        }, py::arg("VA"), py::arg("TA"), py::arg("VB"), py::arg("TB"), py::arg("rel_tol") = 1e-3, py::arg("abs_tol") = 0.0);
+        }, py::arg("VA"), py::arg("TA"), py::arg("VB"), py::arg("TB"), py::arg("rel_tol") = 1e-3, py::arg("abs_tol") = 0.0,
+        py::arg("max_queries") = 0);
 }
 
 }  // namespace meshmark::python

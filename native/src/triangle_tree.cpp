@@ -232,4 +232,37 @@ double TriangleTree::closest(const Eigen::Vector3d& p, Index* face) const {
   return best;
 }
 
+bool TriangleTree::overlapping(const double* lo, const double* hi, std::vector<Index>& out, std::size_t limit) const {
+  out.clear();
+  if (nodes_.empty()) return true;
+  auto meets = [&](const float* blo, const float* bhi) {
+    for (int k = 0; k < 3; ++k)
+      if (static_cast<double>(blo[k]) > hi[k] || static_cast<double>(bhi[k]) < lo[k]) return false;
+    return true;
+  };
+  std::int32_t stack[128];
+  int top = 0;
+  if (meets(nodes_[0].lo, nodes_[0].hi)) stack[top++] = 0;
+  while (top > 0) {
+    const Node& nd = nodes_[stack[--top]];
+    if (nd.left >= 0) {
+      for (const std::int32_t c : {nd.left, nd.left + 1})
+        if (meets(nodes_[c].lo, nodes_[c].hi)) stack[top++] = c;
+      continue;
+    }
+    for (std::int32_t i = nd.first; i < nd.first + nd.count; ++i) {
+      const Tri& r = tri_[i];
+      bool in = true;
+      for (int k = 0; k < 3 && in; ++k) {
+        const double a = r.a[k], b = a + r.ab[k], c = a + r.ac[k];
+        in = std::max({a, b, c}) >= lo[k] && std::min({a, b, c}) <= hi[k];
+      }
+      if (!in) continue;
+      if (out.size() >= limit) return false;
+      out.push_back(r.id);
+    }
+  }
+  return true;
+}
+
 }  // namespace meshmark

@@ -346,7 +346,9 @@ def _format_compare(a, b, d):
     rows = [
         ("reference", a), ("attacked", b),
         ("vertex RMSE", f(d["rmse"])),
-        ("Hausdorff", f"{f(d['hausdorff'])} ({f(d['hausdorff_rel'], '.4e')} of the bbox diagonal)"),
+        ("Hausdorff", f"{f(d['hausdorff'])} ({f(d['hausdorff_rel'], '.4e')} of the bbox diagonal)"
+         + ("" if d.get("hausdorff_converged", True) else
+            f", at most {f(d['hausdorff_upper'])} (work cap reached, docs/metrics.md)")),
         ("RMS distance", f"{f(d['rms'])} ({f(d['rms_rel'], '.4e')} of the bbox diagonal)"),
         ("normal degradation", "-" if d["normal_deg_mean"] is None else
          f"mean {d['normal_deg_mean']:.4f} deg, area {d['normal_deg_area']:.4f} deg, dihedral {d['normal_deg_dihedral']:.4f} deg"),

@@ -192,14 +192,24 @@ def one_sided_distance(A, B, *, n_samples: int | None = None, include_vertices: 
                                          bool(include_vertices), int(seed)))
 
 
-def hausdorff_distance(A, B, *, rel_tol: float = 1e-2, abs_tol: float | None = None) -> dict:
+# The work cap of the bounded Hausdorff distance (docs/metrics.md, "Time cap"): point-to-mesh distance
+# queries per direction. The bound normally closes far below it (fandisk simplified to 50 %: 0.75 and
+# 1.3 million); when it does not, the bound reached is reported (``converged`` False).
+HAUSDORFF_MAX_QUERIES = 3_000_000
+
+
+def hausdorff_distance(A, B, *, rel_tol: float = 1e-2, abs_tol: float | None = None,
+                       max_queries: int | None = HAUSDORFF_MAX_QUERIES) -> dict:
     """One-sided Hausdorff distance h(A -> B) with a guaranteed bound (branch and bound, native).
 
-    Returns ``lower`` (attained by a point of A), ``upper`` (no point of A is farther from B) with
-    ``upper <= lower * (1 + rel_tol) + abs_tol``, and ``n_queries``. ``abs_tol`` (model units)
-    defaults to 1e-12 of A's bounding-box diagonal: distances below that are double round-off (a
-    similarity undone, a float64 round trip), and a purely relative bound on them never closes. Unlike sampling (Metro), it does not miss
-    a maximum inside large triangles, e.g. from a simplified mesh to its original. Agrees with CGAL's
+    Returns ``lower`` (attained by a point of A), ``upper`` (no point of A is farther from B),
+    ``converged`` (True when ``upper <= lower * (1 + rel_tol) + abs_tol``) and ``n_queries``.
+    ``abs_tol`` (model units) defaults to 1e-12 of A's bounding-box diagonal: distances below that are
+    double round-off (a similarity undone, a float64 round trip), and a purely relative bound on them
+    never closes. ``max_queries`` caps the work (point-to-mesh distance queries; None: no cap): when
+    it runs out, [lower, upper] is the bound reached and ``converged`` is False, so the call always
+    ends (about 2 us per query on one core). Unlike sampling (Metro), it does not miss a maximum
+    inside large triangles, e.g. from a simplified mesh to its original. Agrees with CGAL's
     ``bounded_error_Hausdorff_distance`` within 2 % (native/tests/test_hausdorff_cgal.cpp).
     """
     ma, mb = _pair_meshes(A, B)
@@ -210,15 +220,20 @@ def hausdorff_distance(A, B, *, rel_tol: float = 1e-2, abs_tol: float | None = N
         abs_tol = 1e-12 * bbox_diagonal(ma)
     if not abs_tol >= 0:
         raise MeshError(f"abs_tol must be >= 0, got {abs_tol}")
-    return dict(_core.hausdorff_distance(ma.V, Ta, mb.V, Tb, float(rel_tol), float(abs_tol)))
+    if max_queries is None:
+        max_queries = 0
+    elif isinstance(max_queries, bool) or not isinstance(max_queries, (int, np.integer)) or max_queries < 1:
+        raise MeshError(f"max_queries must be a positive integer or None, got {max_queries!r}")
+    return dict(_core.hausdorff_distance(ma.V, Ta, mb.V, Tb, float(rel_tol), float(abs_tol), int(max_queries)))
 
 
 def surface_distance(A, B, *, n_samples: int | None = None, include_vertices: bool = True, seed: int = 0,
-                     rel_tol: float = 1e-2) -> dict:
+                     rel_tol: float = 1e-2, max_queries: int | None = HAUSDORFF_MAX_QUERIES) -> dict:
     """Symmetric distance between a reference A and an attacked B (Meshes or (V, F)).
 
     ``hausdorff``: the symmetric Hausdorff distance by :func:`hausdorff_distance` (bounded within
-    ``rel_tol``; the larger of the two one-sided lower bounds). ``rms`` and ``mean``: Metro-style,
+    ``rel_tol``; the larger of the two one-sided lower bounds); ``hausdorff_upper``: the larger upper
+    bound, and ``hausdorff_converged``: whether both directions closed within ``max_queries``. ``rms`` and ``mean``: Metro-style,
     from samples A -> B (``seed``) and B -> A (``seed + 1``) (see :func:`one_sided_distance`), the
     larger of the two directions. ``hausdorff_sampled``: the largest sampled distance (what Metro and
     MeshLab report as "max"). All in model units, and divided by the bounding-box diagonal of A
@@ -227,13 +242,14 @@ def surface_distance(A, B, *, n_samples: int | None = None, include_vertices: bo
     """
     ab = one_sided_distance(A, B, n_samples=n_samples, include_vertices=include_vertices, seed=seed)
     ba = one_sided_distance(B, A, n_samples=n_samples, include_vertices=include_vertices, seed=seed + 1)
-    hab = hausdorff_distance(A, B, rel_tol=rel_tol)
-    hba = hausdorff_distance(B, A, rel_tol=rel_tol)
+    hab = hausdorff_distance(A, B, rel_tol=rel_tol, max_queries=max_queries)
+    hba = hausdorff_distance(B, A, rel_tol=rel_tol, max_queries=max_queries)
     ma, _ = _pair_meshes(A, B)
     diag = bbox_diagonal(ma)
-    out = {"hausdorff": max(hab["lower"], hba["lower"]), "rms": max(ab["rms"], ba["rms"]),
+    out = {"hausdorff": max(hab["lower"], hba["lower"]), "hausdorff_upper": max(hab["upper"], hba["upper"]),
+           "hausdorff_converged": bool(hab["converged"] and hba["converged"]), "rms": max(ab["rms"], ba["rms"]),
            "mean": max(ab["mean"], ba["mean"]), "hausdorff_sampled": max(ab["max"], ba["max"]), "diag": diag}
-    for k in ("hausdorff", "rms", "mean", "hausdorff_sampled"):
+    for k in ("hausdorff", "hausdorff_upper", "rms", "mean", "hausdorff_sampled"):
         out[k + "_rel"] = out[k] / diag if diag > 0 else float("nan")
     out["ab"], out["ba"] = ab, ba
     out["hausdorff_ab"], out["hausdorff_ba"] = hab, hba
@@ -244,7 +260,8 @@ def compare(A, B, *, n_samples: int | None = None, seed: int = 0) -> dict:
     """Every distortion measure between a reference A and an attacked B (Meshes or (V, F)).
 
     Keys: ``rmse`` (vertex RMSE, None unless the vertex counts match), ``rmse_rel``, ``hausdorff``,
-    ``hausdorff_rel``, ``rms``, ``rms_rel``, ``mean``, ``mean_rel``, ``diag``, and ``normal_deg_mean``,
+    ``hausdorff_rel``, ``hausdorff_upper``, ``hausdorff_upper_rel``, ``hausdorff_converged`` (see
+    :func:`surface_distance`), ``rms``, ``rms_rel``, ``mean``, ``mean_rel``, ``diag``, and ``normal_deg_mean``,
     ``normal_deg_area``, ``normal_deg_dihedral`` in degrees (None unless A and B have the same faces).
     """
     ma, mb = _pair_meshes(A, B)
@@ -253,7 +270,8 @@ def compare(A, B, *, n_samples: int | None = None, seed: int = 0) -> dict:
     same_v = ma.n_vertices == mb.n_vertices
     out["rmse"] = vertex_rmse(ma, mb) if same_v else None
     out["rmse_rel"] = out["rmse"] / sd["diag"] if same_v and sd["diag"] > 0 else None
-    for k in ("hausdorff", "hausdorff_rel", "rms", "rms_rel", "mean", "mean_rel", "diag"):
+    for k in ("hausdorff", "hausdorff_rel", "hausdorff_upper", "hausdorff_upper_rel", "hausdorff_converged",
+              "rms", "rms_rel", "mean", "mean_rel", "diag"):
         out[k] = sd[k]
     same_f = (same_v and np.array_equal(ma.face_offsets, mb.face_offsets)
               and np.array_equal(ma.face_indices, mb.face_indices))

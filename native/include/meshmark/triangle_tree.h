@@ -23,6 +23,10 @@ class TriangleTree {
   // Squared distance from p to one triangle, by its index in T.
   double face_distance2(Index face, const Eigen::Vector3d& p) const;
 
+  // The triangles whose bounding boxes meet the box [lo, hi] (ids in T, in no particular order);
+  // false (out incomplete) when there are more than `limit`.
+  bool overlapping(const double* lo, const double* hi, std::vector<Index>& out, std::size_t limit) const;
+
   Eigen::Index size() const { return static_cast<Eigen::Index>(tri_.size()); }
 
  private:
