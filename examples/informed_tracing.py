@@ -31,7 +31,7 @@ sys.path.insert(0, HERE)
 
 import meshmark  # noqa: E402
 from meshmark import attacks  # noqa: E402
-from meshmark.study.deform import bend  # noqa: E402
+from meshmark.attacks import bend  # noqa: E402
 from meshmark.watermark import informed, tracing  # noqa: E402
 
 from _common import SHARED, MESH_SUFFIXES, write_csv  # noqa: E402

@@ -19,16 +19,33 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, ROOT)
 sys.path.insert(0, os.path.join(ROOT, "addon"))
+KNIGHT = os.path.join(os.path.dirname(ROOT), "shared", "meshes", "rigged", "Knight.glb")
 
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-from blender_tests.test_rigged_characters import _import_knight, _join  # noqa: E402
 from meshmark_blender import bridge  # noqa: E402
 from meshmark.watermark import embed, extract, tracing  # noqa: E402
 
+
+
+def _import_knight():
+    """The Knight (Quaternius, CC0) in an empty scene: its skinned parts and its armature."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.import_scene.gltf(filepath=KNIGHT)
+    skinned = [o for o in bpy.data.objects
+               if o.type == "MESH" and any(m.type == "ARMATURE" for m in o.modifiers)]
+    return skinned, bpy.data.objects["Rig"]
+
+
+def _join(parts, into):
+    """Join the parts into one object (the character as one carrier)."""
+    bpy.ops.object.select_all(action="DESELECT")
+    for o in parts:
+        o.select_set(True)
+    bpy.context.view_layer.objects.active = into
+    bpy.ops.object.join()
 
 def frames(rig, step):
     for act in bpy.data.actions:

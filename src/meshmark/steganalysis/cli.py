@@ -56,7 +56,7 @@ def add_commands(group: click.Group) -> None:
 
     @group.command("train")
     @click.argument("covers", nargs=-1, required=True)
-    @click.option("--out", "out", required=True, type=click.Path(dir_okay=False), help="Model file to write (.npz).")
+    @click.option("--out", "out", required=True, type=click.Path(), help="Model file to write (.npz).")
     @_set_option
     @click.option("--classifier", type=click.Choice(["ensemble", "qda"]), default="ensemble", show_default=True)
     @click.option("--methods", default=None, help="Comma-separated stego methods to generate (default: all registered; 'none': only --stego).")
@@ -97,7 +97,7 @@ def add_commands(group: click.Group) -> None:
             model = Model.train(X, y, lab, feature_set, classifier, training)
             c = np.flatnonzero(ds["method"] == "cover")
             if domain_rate > 0 and len(c) >= 2:
-                model.training["domain"] = model.set_domain(X[c], ds["cover"][c], rate=domain_rate, groups="one cover file")
+                model.training["domain"] = model.set_domain(X[c], ds["cover"][c], rate=domain_rate, group_kind="one cover file")
         model.save(out)
         d = {"model": out, "feature_set": feature_set, "classifier": classifier, **{k: v for k, v in training.items()
                                                                                   if k != "covers"}}
