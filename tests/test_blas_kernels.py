@@ -23,7 +23,7 @@ KERNELS = {"Prescott": {"pni"}, "Sandybridge": {"avx"}, "Haswell": {"avx2", "fma
            "Cooperlake": {"avx512f", "avx512dq", "avx512bw", "avx512vl", "avx512_bf16"}, "Zen": {"avx2", "fma"}}
 # the floating-point-sensitive checks: the Laplacian golden records (CHOLMOD on BLAS) and the feature
 # invariance (PCA and eigen-decompositions on LAPACK)
-CHECKS = ["tests/test_laplacian_golden.py"]
+CHECKS = ["tests/test_laplacian_golden.py", "tests/test_steganalysis_features.py::test_invariance_every_component"]
 PROBE = "import numpy as np; a = np.random.default_rng(0).random((400, 400)); np.linalg.eigh(a @ a.T); print('ok')"
 
 
