@@ -61,3 +61,17 @@ def test_require_names_feature_and_extra():
         finally:
             del sys.modules["distributed"]
     assert install_line("auditwheel") == "pip install 'meshmark[build]'  (or: pip install 'auditwheel')"
+
+
+def test_obj_copies_need_no_gltf_library(tmp_path):
+    """pygltflib is needed for glTF files only: issuing and tracing OBJ copies work without it (the add-on
+    in an interpreter that lacks it issued copies with 'internal error: No module named pygltflib')."""
+    from conftest import shared_mesh
+    reg, out = tmp_path / "r.sqlite", tmp_path / "copies"
+    r = _run_without({"pygltflib"}, "issue", shared_mesh("classic/cow.obj"), out, "--copies", "2", "--key", "k",
+                     "--registry", reg)
+    assert r.returncode == 0, r.stderr
+    copies = sorted(out.iterdir())
+    assert len(copies) == 2
+    r = _run_without({"pygltflib"}, "trace", copies[1], "--registry", reg)
+    assert r.returncode == 0 and "0002" in r.stdout, r.stdout + r.stderr

@@ -159,7 +159,7 @@ def test_installs_in_fresh_bpy_venv_and_embeds(dist, tmp_path):
     user = tmp_path / "user"
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     env["BLENDER_USER_RESOURCES"] = str(user)
-    spec = ('[study]\nname = "portable"\nseeds = [0]\npayload_bits = 8\n[meshes]\npaths = ["builtin:torus"]\n'
+    spec = ('[study]\nname = "portable"\nseeds = [0]\npayload_bits = 8\n[meshes]\npaths = ["builtin:default"]\n'
             '[[methods]]\nname = "cho-mean"\n[[attacks]]\nname = "none"\n[measurements]\nlist = ["nc"]\n')
     r = subprocess.run([str(py), "-c", CHECK, str(ext), spec], capture_output=True, text=True, env=env, cwd=tmp_path,
                        timeout=900)

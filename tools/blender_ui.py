@@ -93,8 +93,10 @@ def record_draws(panels_mod, ui_layout, open_all=False):
         cls.draw = wrapper(cls, orig)
         if cls is not panels_mod.MESHMARK_PT_sidebar:
             cls.poll = classmethod(poll)
-            if open_all:
-                cls.bl_options = set(getattr(cls, "bl_options", set())) - {"DEFAULT_CLOSED"}
+            if open_all and "DEFAULT_CLOSED" in set(getattr(cls, "bl_options", set())):
+                cls.bl_options = set(cls.bl_options) - {"DEFAULT_CLOSED"}
+                # the region keeps a panel's collapsed state by its idname: a new idname starts open
+                cls.bl_idname = cls.bl_idname + "_open"
     panels_mod.register()
 
 

@@ -99,11 +99,11 @@ def steps(ui):
     r_embed = ui.press(bpy.ops.meshmark.embed)
     yield from ui.wait_job()
     embed = json.loads(s.last_result)
+    r_cap = ui.press(bpy.ops.meshmark.capacity)  # before Verify: the panel shows the last result (Verify's)
+    cap = json.loads(s.last_result)
     r_verify = ui.press(bpy.ops.meshmark.verify)
     yield from ui.wait_job()
     verify = json.loads(s.last_result)
-    r_cap = ui.press(bpy.ops.meshmark.capacity)
-    cap = json.loads(s.last_result)
     ui.redraw()
     yield
     ui.snapshot("watermark", embed=r_embed, verify=r_verify, capacity_op=r_cap, stored_cdr=embed.get("stored_cdr"),

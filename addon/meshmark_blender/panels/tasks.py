@@ -9,7 +9,7 @@ import bpy
 
 from .. import properties, session
 from ..tasks import frames as frames_task
-from .layout import field, fold, path_field
+from .layout import field, fold, path_field, wrapped
 from .results import draw_result, tied_result
 from .watermark import Sidebar
 
@@ -143,7 +143,7 @@ class MESHMARK_PT_study(Sidebar, bpy.types.Panel):
             start, end, source = frames_task.animation_range(context, objs) if objs else (
                 context.scene.frame_start, context.scene.frame_end, "the scene")
             col.label(text=f"Frames {start} to {end}", icon="TIME")
-            col.label(text=f"from {source}", icon="BLANK1")
+            wrapped(col, context, f"from {source}", icon="BLANK1")  # an action's name can be long
         else:
             col.prop(s, "frame_start")
             col.prop(s, "frame_end")

@@ -8,9 +8,7 @@ marked positions written back into a copy of the asset with everything else unch
 ``meshmark.read_mesh`` / ``write_mesh`` dispatch here on the extension (``write_mesh("x.glb", mesh,
 source=info)`` writes back; without ``source`` a minimal glTF of the mesh). See ``docs/gltf.md``.
 """
-from .reader import GltfInfo, Part, read
-from .writer import plan_write, write_positions
-from .minimal import gltf_bytes, write_gltf
+import importlib
 
 EXTENSIONS = (".glb", ".gltf")
 
@@ -23,6 +21,17 @@ def is_gltf(path) -> bool:
     except TypeError:
         return False
     return os.path.splitext(name)[1].lower() in EXTENSIONS
+
+
+# The readers and writers need pygltflib: imported on first use, so that OBJ/OFF/PLY/STL work without it.
+_LAZY = {"GltfInfo": "reader", "Part": "reader", "read": "reader", "plan_write": "writer",
+         "write_positions": "writer", "gltf_bytes": "minimal", "write_gltf": "minimal"}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 __all__ = ["GltfInfo", "Part", "read", "plan_write", "write_positions", "gltf_bytes", "write_gltf", "is_gltf",
