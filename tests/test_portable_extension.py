@@ -72,7 +72,8 @@ print("RESULT " + json.dumps({"so": so, "ldd": ldd, "detected": v["detected"], "
 """
 # A new process: the extension installed above is enabled by its module name, then scripted.
 AGAIN = r"""
-import json, sys, addon_utils, bpy
+import json, sys, bpy
+import addon_utils  # on the path once bpy is imported
 addon_utils.enable("bl_ext.user_default.meshmark", default_set=True)
 from bl_ext.user_default.meshmark import api
 bpy.ops.mesh.primitive_monkey_add()
