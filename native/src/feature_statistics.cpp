@@ -6,54 +6,58 @@
 
 namespace meshmark {
 
-Eigen::Vector4d moments4(const Eigen::Ref<const Eigen::VectorXd>& x) {
-  // Accumulated in long double (64-bit mantissa) and rounded once: the sums do not depend on the order
-  // of the elements (vertex / face numbering) to double precision (docs/steganalysis.md §2).
+namespace {
+
+// Mean, unbiased variance and the biased central sums m2, m3, m4 (divided by n) of x, accumulated in
+// long double (64-bit mantissa) and rounded once: the sums do not depend on the order of the elements
+// (vertex / face numbering) to double precision (docs/steganalysis.md §2).
+struct CentralMoments {
+  long double mean = 0, var = 0, m2 = 0, m3 = 0, m4 = 0;
+  Eigen::Index n = 0;
+};
+
+CentralMoments central_moments(const Eigen::Ref<const Eigen::VectorXd>& x) {
   using LD = long double;
-  const Eigen::Index n = x.size();
-  Eigen::Vector4d out = Eigen::Vector4d::Zero();
-  if (n == 0) return out;
+  CentralMoments c;
+  c.n = x.size();
+  if (c.n == 0) return c;
   LD s = 0;
-  for (Eigen::Index i = 0; i < n; ++i) s += x[i];
-  const LD mean = s / n;
-  out[0] = static_cast<double>(mean);
-  if (n == 1) return out;
+  for (Eigen::Index i = 0; i < c.n; ++i) s += x[i];
+  c.mean = s / c.n;
+  if (c.n == 1) return c;
   LD m2 = 0, m3 = 0, m4 = 0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const LD d = x[i] - mean, d2 = d * d;
+  for (Eigen::Index i = 0; i < c.n; ++i) {
+    const LD d = x[i] - c.mean, d2 = d * d;
     m2 += d2;
     m3 += d2 * d;
     m4 += d2 * d2;
   }
-  out[1] = static_cast<double>(m2 / (n - 1));  // unbiased variance
-  m2 /= n, m3 /= n, m4 /= n;
-  if (m2 > 0) {
-    out[2] = static_cast<double>(m3 / (m2 * std::sqrt(m2)));  // biased skewness
-    out[3] = static_cast<double>(m4 / (m2 * m2));             // biased, non-excess kurtosis
+  c.var = m2 / (c.n - 1);  // unbiased variance
+  c.m2 = m2 / c.n, c.m3 = m3 / c.n, c.m4 = m4 / c.n;
+  return c;
+}
+
+}  // namespace
+
+Eigen::Vector4d moments4(const Eigen::Ref<const Eigen::VectorXd>& x) {
+  const CentralMoments c = central_moments(x);
+  Eigen::Vector4d out(static_cast<double>(c.mean), static_cast<double>(c.var), 0.0, 0.0);
+  if (c.n > 1 && c.m2 > 0) {
+    out[2] = static_cast<double>(c.m3 / (c.m2 * std::sqrt(c.m2)));  // biased skewness
+    out[3] = static_cast<double>(c.m4 / (c.m2 * c.m2));             // biased, non-excess kurtosis
   }
   return out;
 }
 
 Eigen::Vector4d moments4_regularized(const Eigen::Ref<const Eigen::VectorXd>& x, double s0) {
-  using LD = long double;
-  const Eigen::Index n = x.size();
-  Eigen::Vector4d out = Eigen::Vector4d::Zero();
-  if (n == 0) return out;
-  LD s = 0;
-  for (Eigen::Index i = 0; i < n; ++i) s += x[i];
-  const LD mean = s / n;
-  out[0] = static_cast<double>(mean);
-  if (n == 1) return out;
-  LD m2 = 0, m3 = 0, m4 = 0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const LD d = x[i] - mean, d2 = d * d;
-    m2 += d2, m3 += d2 * d, m4 += d2 * d2;
+  // moments4 with the variance floor s0 added to m2 in the skewness and kurtosis denominators
+  const CentralMoments c = central_moments(x);
+  Eigen::Vector4d out(static_cast<double>(c.mean), static_cast<double>(c.var), 0.0, 0.0);
+  if (c.n > 1) {
+    const long double r = c.m2 + static_cast<long double>(s0);
+    out[2] = static_cast<double>(c.m3 / (r * std::sqrt(r)));
+    out[3] = static_cast<double>(c.m4 / (r * r));
   }
-  out[1] = static_cast<double>(m2 / (n - 1));
-  m2 /= n, m3 /= n, m4 /= n;
-  const LD r = m2 + static_cast<LD>(s0);
-  out[2] = static_cast<double>(m3 / (r * std::sqrt(r)));
-  out[3] = static_cast<double>(m4 / (r * r));
   return out;
 }
 
