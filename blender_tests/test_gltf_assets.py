@@ -15,7 +15,7 @@ import numpy as np
 
 import meshmark
 from blender_tests import rigs
-from blender_tests.rigs import last_result
+from blender_tests.rigs import last_result, skin_to_parent_bone
 from meshmark.watermark import embed, extract
 from meshmark.watermark.keyfile import save_keyfile
 from meshmark.watermark.payload import Payload
@@ -69,18 +69,6 @@ def _export_posed(objs, path):
                               export_skins=False, export_animations=False, export_morph=False)
 
 
-def _skin_to_parent_bone(obj, rig):
-    bone = obj.parent_bone
-    rig.data.pose_position = "REST"
-    bpy.context.view_layer.update()
-    world = obj.matrix_world.copy()
-    obj.parent = None
-    obj.matrix_world = world
-    rig.data.pose_position = "POSE"
-    obj.vertex_groups.new(name=bone).add(list(range(len(obj.data.vertices))), 1.0, "REPLACE")
-    obj.modifiers.new("Armature", "ARMATURE").object = rig
-
-
 def _run(name, tmp_path):
     marked, kf, info, mesh = _mark(name, tmp_path)
     rig, parts = _import(marked)
@@ -115,7 +103,7 @@ def _run(name, tmp_path):
     # the add-on's verdict on the same poses: the parts as one object
     for o in parts:
         if o.parent_type == "BONE":
-            _skin_to_parent_bone(o, rig)
+            skin_to_parent_bone(o, rig)
     for o in bpy.context.view_layer.objects:
         o.select_set(o in parts)
     bpy.context.view_layer.objects.active = parts[0]

@@ -136,21 +136,6 @@ def _world_coords(obj) -> np.ndarray:
     return m.V @ M[:3, :3].T + M[:3, 3]
 
 
-def _skin_to_parent_bone(obj, rig):
-    """Turn an object parented to a bone into a mesh skinned to that bone with weight 1 (the same
-    rigid motion, now through the armature modifier, so that it can be joined to the skinned body)."""
-    bone = obj.parent_bone
-    assert obj.parent == rig and obj.parent_type == "BONE"
-    rig.data.pose_position = "REST"  # the armature modifier deforms from the rest placement
-    bpy.context.view_layer.update()
-    world = obj.matrix_world.copy()
-    obj.parent = None
-    obj.matrix_world = world
-    rig.data.pose_position = "POSE"
-    obj.vertex_groups.new(name=bone).add(list(range(len(obj.data.vertices))), 1.0, "REPLACE")
-    obj.modifiers.new("Armature", "ARMATURE").object = rig
-
-
 def _join(parts, into):
     for o in parts:
         o.select_set(True)
