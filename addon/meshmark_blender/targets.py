@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import bpy
 
-import meshmark
 from meshmark import parts as _parts
 
 from . import bridge, words
@@ -135,11 +134,3 @@ def for_keyfile(context, kf, chosen: Target):
             changed.append(f"{o.name} ({len(o.data.vertices)} vertices, {p['n_vertices']} when marked)")
         objs.append(o)
     return Target(objs), {"missing": missing, "changed": changed}
-
-
-def joined_counts(joined) -> int:
-    return int(joined.offsets[-1])
-
-
-def weld_count(mesh: meshmark.Mesh) -> int:
-    return meshmark.weld_vertices(mesh).mesh.n_vertices

@@ -220,3 +220,13 @@ def as_mesh(V, F=None) -> Mesh:
     if isinstance(F, Mesh):  # new positions on an existing mesh's faces
         return F.with_vertices(V)
     return Mesh(V, F)
+
+
+def vertices_and_mask(V, F=None) -> tuple[np.ndarray, np.ndarray]:
+    """``(V (n, 3) float64, mask (n,) uint8)``: the vertices that take part in a vertex statistic,
+    the referenced ones of a mesh (a :class:`Mesh`, or ``(V, F)``), all of a point set (``F`` None)."""
+    if isinstance(V, Mesh) or F is not None:
+        mesh = as_mesh(V, F)
+        return mesh.V, mesh.referenced()
+    V = _as_vertices(V)
+    return V, np.ones(len(V), np.uint8)

@@ -34,7 +34,7 @@ import numpy as np
 from .. import _core
 from .._core import MeshError
 from ..ranges import MAX_COUNT, ParameterError, check_bool, check_float, check_int
-from ..watermark.cho import _mask
+from ..mesh import vertices_and_mask
 
 RULES = ("margin", "thesis")
 #: largest K_max: a scan to K visits about K^2 / 2 bins (the EM fits of the thesis' rule ~100 times that);
@@ -122,7 +122,7 @@ def analyze(V, F=None, K_min: int = 1, K_max: int = 500, rule: str | None = None
     fit_em = check_bool("fit_em", fit_em)
     if o["rule"] == "thesis" and not fit_em:
         raise ParameterError("fit_em", "the thesis' rule needs the EM fits (fit_em=True)")
-    V, mask = _mask(V, F)
+    V, mask = vertices_and_mask(V, F)
     r = _core.cho_steganalysis(V, mask, o["K_min"], o["K_max"], o["eps"], o["eps2"], o["min_bins"], 1e-6, fit_em,
                                o["trim"], o["min_count"], o["false_alarm"])
     r["Ks"] = np.arange(o["K_min"], int(r["K_max_used"]) + 1)

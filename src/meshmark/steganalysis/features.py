@@ -76,10 +76,6 @@ PROTOCOL_SET = "yang208+lfs76s+nvt36s"
 FEATURES_VERSION = 3
 
 
-def _register(name: str, length: int, fn) -> None:
-    _SETS[name] = (length, fn)
-
-
 def feature_sets() -> dict:
     """Set name -> number of features."""
     return {k: v[0] for k, v in _SETS.items()}

@@ -83,11 +83,3 @@ def open_body(frame: bytes, n: int, dkey: bytes) -> bytes | None:
         return AESGCM(dkey).decrypt(_nonce2(nonce), frame[HEADER:HEADER + n + TAG], AAD)
     except InvalidTag:
         return None
-
-
-def open_frame(frame: bytes, key) -> bytes | None:
-    """The message of a frame, or None."""
-    h = open_header(frame, key)
-    if h is None:
-        return None
-    return open_body(frame, h[0], h[1])

@@ -6,7 +6,11 @@ seeds. :func:`run` expands it into tasks keyed by a hash of their inputs, runs t
 process pool or on Dask, and appends the rows to Parquet partitions under ``OUT/results``; rerunning
 skips finished keys. ``meshmark study run|status|plot`` is the command line.
 
-* :mod:`.spec` — loading, validation (errors name the TOML line), expansion, task keys;
+* :mod:`.spec` — loading a spec (:func:`load_spec`: TOML, text or dict), every table read and checked;
+* :mod:`.model` — the expanded spec (:class:`Spec`, the method and attack variants) and the store key
+  of a marked mesh; :mod:`.validation` — TOML line numbers, the checker, the keys each table takes;
+  :mod:`.expansion` — grids, random draws, labels and the task plan with its keys;
+  :mod:`.meshes` — built-in meshes, loading, content digests;
 * :mod:`.task` — what a worker does with a chunk of tasks of one mesh;
 * :mod:`.engine` — planning, execution (process pool, Dask), Parquet, resume, status;
 * :mod:`.measure` — the measurement registry (:func:`register_measurement`);
@@ -21,7 +25,7 @@ skips finished keys. ``meshmark study run|status|plot`` is the command line.
 import importlib
 
 _EXPORTS = {
-    "Spec": "spec", "load_spec": "spec", "plan": "spec", "embed_key": "spec", "mesh_digest": "spec",
+    "Spec": "model", "load_spec": "spec", "plan": "expansion", "embed_key": "model", "mesh_digest": "meshes",
     "MEASUREMENTS": "measure", "register_measurement": "measure", "Measurement": "measure",
     "register_method_kind": "kinds", "METHOD_KINDS": "kinds", "Marked": "kinds", "Read": "kinds",
     "PLUGIN_MODULES": "kinds",

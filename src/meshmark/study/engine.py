@@ -36,7 +36,9 @@ import pyarrow.parquet as pq
 
 from .._core import MeshError
 from .measure import MEASUREMENTS, TIMINGS, load_plugins
-from .spec import Spec, load_spec, plan
+from .expansion import plan
+from .model import Spec
+from .spec import load_spec
 from . import task as T
 
 BASE_COLUMNS = {

@@ -22,7 +22,7 @@ import pathlib
 
 import numpy as np
 
-from .engine import VOLATILE, load_results
+from .engine import load_results
 
 DEFORM = ("bend", "blender_bend")
 
@@ -179,8 +179,3 @@ def plot(results, out=None) -> list:
         plt.close(fig)
         written.append(out / "capacity_vs_size.png")
     return [str(p) for p in written]
-
-
-def compare_columns(table):
-    """The columns two runs must agree on (everything but timings, worker and attempt)."""
-    return [c for c in table.column_names if c not in VOLATILE]

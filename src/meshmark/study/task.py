@@ -15,7 +15,6 @@ import inspect
 import json
 import os
 import socket
-import tempfile
 import time
 import traceback
 
@@ -24,47 +23,8 @@ import numpy as np
 from .._core import MeshError
 from ..mesh import Mesh
 from . import deform
+from .meshes import BUILTINS, builtin_mesh, compact, load_mesh  # noqa: F401  (the worker's mesh loading)
 from .measure import MEASUREMENTS, Context, load_plugins
-
-BUILTINS = ("torus", "cylinder", "default", "arm")
-
-
-def builtin_mesh(name: str) -> Mesh:
-    from .. import shapes
-    if name == "torus":
-        return shapes.torus()
-    if name == "cylinder":
-        return shapes.cylinder()
-    if name == "default":
-        return shapes.default_mesh()
-    if name == "arm":  # the jittered arm of tests/test_laplacian_watermark.py (20k vertices)
-        m = shapes.cylinder(segments=64, rings=320)
-        h = 2 * np.pi * 0.15 / 64
-        return m.with_vertices(m.V + np.random.default_rng(0).uniform(-0.25, 0.25, m.V.shape) * h)
-    raise MeshError(f"unknown built-in mesh {name!r} (known: {', '.join(BUILTINS)})")
-
-
-def compact(m: Mesh) -> Mesh:
-    """Unreferenced vertices dropped, triangulated (as examples/attack_table.py measured)."""
-    used = np.zeros(m.n_vertices, bool)
-    used[m.face_indices] = True
-    return Mesh(m.V[used], (np.cumsum(used) - 1)[m.triangles])
-
-
-def load_mesh(path: str, data: bytes | None = None, do_compact: bool = False) -> Mesh:
-    from ..io import read_mesh
-    if path.startswith("builtin:"):
-        m = builtin_mesh(path.split(":", 1)[1])
-    elif data is not None:  # bytes shipped by Dask: read them from a private temporary file
-        with tempfile.TemporaryDirectory(prefix="meshmark-study-") as d:
-            p = os.path.join(d, "mesh" + os.path.splitext(path)[1].lower())
-            with open(p, "wb") as f:
-                f.write(data)
-            m = read_mesh(p)
-    else:
-        m = read_mesh(path)
-    return compact(m) if do_compact else m
-
 
 def apply_attack(variant, mesh: Mesh, seed: int):
     """(attacked mesh, mesh to measure): with ``undo`` the similarity / rotation / reordering is undone
@@ -119,7 +79,7 @@ class Worker:
 
     def embed(self, mesh: Mesh, digest: str, mv, seed: int):
         from ..watermark import framework, Keyfile
-        from .spec import embed_key
+        from .model import embed_key
         from .kinds import METHOD_KINDS, Marked
         sp = self.spec
         ek = embed_key(digest, mv, seed, sp) if self.store is not None else None

@@ -12,7 +12,9 @@
 * :mod:`~meshmark.watermark.tracing` — copy tracing: ``issue`` / ``trace`` with a SQLite registry;
 * :mod:`~meshmark.watermark.keys` — key-derived permutation and whitening of the carriers;
 * :mod:`~meshmark.watermark.keyfile` — the versioned JSON keyfile that ``extract`` needs;
-* :mod:`~meshmark.watermark.framework` — embed/extract/detect for any method.
+* :mod:`~meshmark.watermark.framework` — embed/extract/detect for any method;
+* :mod:`~meshmark.watermark.registry` — the methods by name (:data:`METHODS`), below the keyfile and the
+  framework.
 
 Generic entry points: :func:`embed`, :func:`extract`, :func:`capacity` with ``method=`` one of
 :data:`METHODS`.

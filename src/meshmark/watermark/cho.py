@@ -33,24 +33,14 @@ import numpy as np
 from .. import _core
 from .._core import MeshError
 from ..ranges import check_bool, check_float, check_int
-from ..mesh import Mesh, _as_vertices, as_mesh
+from ..mesh import Mesh, vertices_and_mask
 from . import framework
-from .laplacian import _referenced
 
 NAMES = {"mean": "cho-mean", "variance": "cho-variance"}
 REFERENCE = {"mean": 0.5, "variance": 1.0 / 3.0}
 ALPHA = {"mean": 0.04, "variance": 0.16}
 ROBUST = {"guard": 0.005, "center_iters": 20}
 K_MAX_EXPONENT = 100.0
-
-
-def _mask(V, F):
-    """Vertices that take part: the referenced ones of a mesh, all of a point set (F None)."""
-    if isinstance(V, Mesh) or F is not None:
-        mesh = as_mesh(V, F)
-        return mesh.V, _referenced(mesh)
-    V = _as_vertices(V)
-    return V, np.ones(len(V), np.uint8)
 
 
 class _Cho:
@@ -74,7 +64,7 @@ class _Cho:
         p["alpha"] = check_float("alpha", p["alpha"], 0.0, lim, low_open=True, high_open=True)
         p["delta_k"] = check_float("delta_k", p["delta_k"], 0.0, 1.0, low_open=True, high_open=True)
         p["guard"] = check_float("guard", p["guard"], 0.0, 0.25, high_open=True)
-        n = int(_referenced(mesh).sum())
+        n = int(mesh.referenced().sum())
         if n < p["K"]:
             raise MeshError(f"the mesh has {n} referenced vertices but K = {p['K']} bins were asked for: "
                             "fewer vertices than bins")
@@ -85,7 +75,7 @@ class _Cho:
 
     # -- carriers: the non-empty bins -----------------------------------------------------------
     def statistics(self, mesh: Mesh, p: dict):
-        return _core.cho_statistics(mesh.V, _referenced(mesh), p["K"], self.kind)
+        return _core.cho_statistics(mesh.V, mesh.referenced(), p["K"], self.kind)
 
     def carriers(self, mesh: Mesh, p: dict):
         _, counts, _ = self.statistics(mesh, p)
@@ -94,7 +84,7 @@ class _Cho:
     # -- embed / extract ------------------------------------------------------------------------
     def embed(self, mesh: Mesh, p: dict, side: dict, ids, bits):
         pm = np.where(np.asarray(bits) > 0, 1, -1)
-        r = _core.cho_embed(mesh.V, _referenced(mesh), p["K"], [int(i) for i in ids], pm.tolist(), self.kind,
+        r = _core.cho_embed(mesh.V, mesh.referenced(), p["K"], [int(i) for i in ids], pm.tolist(), self.kind,
                             p["alpha"], p["delta_k"], K_MAX_EXPONENT, p["guard"], p["center_iters"])
         return r["V"], side, {"n_moved": int(r["n_moved"]), "n_failed_bins": len(r["failed_bins"]),
                               "center_drift": float(r["center_drift"])}
@@ -150,7 +140,7 @@ def embed_bits(V, F=None, bits=None, method: str = "mean", K: int | None = None,
     exponents ``k`` (K,), ``failed_bins``, ``center``, ``center_drift``, ``center_iters`` and ``n_moved``.
     """
     _name(method)
-    V, mask = _mask(V, F)
+    V, mask = vertices_and_mask(V, F)
     b = np.asarray(bits).ravel()
     if b.size == 0 or not np.isin(b, (0, 1)).all():
         raise MeshError("bits must be a non-empty sequence of 0 and 1")
@@ -167,7 +157,7 @@ def embed_bits(V, F=None, bits=None, method: str = "mean", K: int | None = None,
 def extract_bits(V, F=None, n_bits: int = 64, method: str = "mean", K: int | None = None):
     """Blind detection as published: ``(bits (n_bits,) uint8, statistics (K,))``, bit = [stat > 1/2 or 1/3]."""
     _name(method)
-    V, mask = _mask(V, F)
+    V, mask = vertices_and_mask(V, F)
     K = check_int("K", n_bits if K is None else K)
     stat, _, _ = _core.cho_statistics(V, mask, K, method)
     return (stat[:n_bits] > REFERENCE[method]).astype(np.uint8), stat

@@ -49,13 +49,11 @@ from . import keys as _keys
 from .keyfile import Keyfile, load_keyfile
 from . import coding as _coding
 from .payload import Payload, decode as _decode_repeat, repeat_to
+from .registry import METHODS, register, method_named as _method  # noqa: F401  (re-exported)
 
 DETECTION_THRESHOLD = 1e-6
 MIN_CARRIERS = 8
 MAX_ROUNDS = 4
-
-METHODS: dict = {}
-
 
 def merge_params(method_name: str, defaults: dict, params: dict) -> dict:
     """``defaults`` overridden by the non-None ``params``; MeshError naming any unknown parameter."""
@@ -84,16 +82,6 @@ def check_detectable(cap: int, what: str) -> None:
                         f"that small can never be detected (all {cap} bits matching still has P(false alarm) = "
                         f"{false_alarm_probability(cap, cap):.2g}, not below {DETECTION_THRESHOLD:g}). Nothing was "
                         "written.")
-
-
-def register(method) -> None:
-    METHODS[method.name] = method
-
-
-def _method(name: str):
-    if name not in METHODS:
-        raise MeshError(f"unknown watermark method {name!r} (known: {', '.join(METHODS)})")
-    return METHODS[name]
 
 
 @dataclass

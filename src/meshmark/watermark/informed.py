@@ -269,6 +269,14 @@ def tail_probability(z: float) -> float:
 
 # --- finding the original -------------------------------------------------------------------------
 
+def source_digest(mesh) -> str:
+    """SHA-256 of a (welded) mesh's float64 vertices and faces: identifies the original."""
+    h = hashlib.sha256(np.ascontiguousarray(mesh.V, np.float64).tobytes())
+    h.update(np.ascontiguousarray(mesh.face_indices, np.int64).tobytes())
+    h.update(np.ascontiguousarray(mesh.face_offsets, np.int64).tobytes())
+    return h.hexdigest()
+
+
 def _welded(mesh: Mesh, weld: bool) -> Mesh:
     from ..topology import weld_vertices
 
@@ -281,7 +289,6 @@ def find_original(reg, asset_id: int, setup: dict, given=None):
     ``"digest mismatch"``, ``"no pattern"`` (not used: blind evidence only). ``given``: a Mesh already
     read (its digest is checked here), or None."""
     from ..io import read_mesh
-    from .tracing import source_digest
 
     path, resolved, sha = reg.original(asset_id)
     info = {"asset_id": asset_id, "path": path, "status": "not recorded"}

@@ -214,7 +214,7 @@ def validate_keyfile_dict(d, source: str = "keyfile") -> None:
         bad("field 'key' is empty")
     if d.get("key_stored") is False and "key" in d:
         bad("field 'key_stored' is false but the keyfile holds a key")
-    from .framework import METHODS
+    from .registry import METHODS
     if d["method"] not in METHODS:
         bad(f"unknown method {_short(d['method'])} (known: {', '.join(METHODS)})")
     for table, name in ((PARAM_CHECKS, "params"), (SIDE_CHECKS, "side_info"), (MESH_CHECKS, "mesh")):

@@ -12,7 +12,6 @@ bits agree with the expected ones only by chance (probability 1/2 each).
 from __future__ import annotations
 
 import hashlib
-import secrets
 
 import numpy as np
 
@@ -26,11 +25,6 @@ def check_key(key) -> str:
         raise MeshError("the key must be a non-empty string (or an integer seed)")
     from ..ranges import check_text
     return check_text("key", key)
-
-
-def random_key() -> str:
-    """A fresh 128-bit key as 32 hex digits."""
-    return secrets.token_hex(16)
 
 
 def _stream(label: str, method: str, key: str, nbytes: int) -> bytes:

@@ -84,11 +84,6 @@ def _triangles(mesh: Mesh, carrier: str = "normal") -> np.ndarray:
     return topo["triangles"]
 
 
-def _referenced(mesh: Mesh) -> np.ndarray:
-    """(n,) uint8: 1 for the vertices used by a face (native, cached on the mesh)."""
-    return mesh.referenced()
-
-
 def mean_edge_length(V: np.ndarray, E: np.ndarray) -> float:
     """Mean edge length (model units): the scale unit of the normalised Laplacian lengths."""
     return float(_core.mean_edge_length(V, E))
@@ -106,7 +101,7 @@ class _Laplacian:
     # -- parameters -----------------------------------------------------------------------------
     def resolve(self, mesh: Mesh, params: dict) -> dict:
         p = framework.merge_params("laplacian", DEFAULTS, params)
-        n_ref = int(_referenced(mesh).sum())
+        n_ref = int(mesh.referenced().sum())
         auto_K = p["K"] is None
         if auto_K:
             p["K"] = int(math.ceil(n_ref / 70))  # §7.4: K = ceil(N / N_c), N_c = 70
@@ -154,7 +149,7 @@ class _Laplacian:
         """The referenced vertices' carrier values, sorted (cached with the lengths)."""
         st = self._state(mesh, p)
         if "sorted" not in st:
-            st["sorted"] = np.sort(st["lengths"][1][_referenced(mesh) == 1])
+            st["sorted"] = np.sort(st["lengths"][1][mesh.referenced() == 1])
         return st["sorted"]
 
     def _range(self, mesh: Mesh, p: dict, lo: float, hi: float, ids: np.ndarray) -> float:
@@ -168,7 +163,7 @@ class _Laplacian:
 
     def carriers(self, mesh: Mesh, p: dict):
         E, d, scale = self._lengths(mesh, p)
-        mask = _referenced(mesh)
+        mask = mesh.referenced()
         lo, hi = float(d[mask == 1].min()), float(d[mask == 1].max())
         _, counts = _core.laplacian_histogram(d, p["K"], lo, hi, mask)
         f = counts[1:-1:2][: (p["K"] - 2) // 2] + counts[2::2][: (p["K"] - 2) // 2]
@@ -178,7 +173,7 @@ class _Laplacian:
 
     def _histogram(self, mesh: Mesh, p: dict, side: dict):
         E, d, scale = self._lengths(mesh, p)
-        bins, counts = _core.laplacian_histogram(d, p["K"], side["lo"], side["hi"], _referenced(mesh))
+        bins, counts = _core.laplacian_histogram(d, p["K"], side["lo"], side["hi"], mesh.referenced())
         return E, bins, counts, scale
 
     # -- embed / extract ------------------------------------------------------------------------

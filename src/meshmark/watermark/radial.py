@@ -20,17 +20,13 @@ repeated over every embeddable pair); :func:`embed_bits` / :func:`extract_bits` 
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .. import _core
 from .._core import MeshError
 from ..ranges import check_int
-from ..mesh import Mesh
+from ..mesh import Mesh, vertices_and_mask
 from . import framework
-from .cho import _mask
-from .laplacian import _referenced
 
 NAME = "radial"
 DEFAULTS = {"K": 400, "n_thr": None, "origin_mode": "axis", "origin_iters": 0}
@@ -89,7 +85,7 @@ class _Radial:
         p["K"], p["origin_iters"] = check_int("K", p["K"]), check_int("origin_iters", p["origin_iters"])
         if p["origin_mode"] not in ("axis", "vertices"):
             raise MeshError(f"origin_mode must be 'axis' or 'vertices', got {p['origin_mode']!r}")
-        n = int(_referenced(mesh).sum())
+        n = int(mesh.referenced().sum())
         if n < p["K"]:
             raise MeshError(f"the mesh has {n} referenced vertices but K = {p['K']} bins were asked for: "
                             "fewer vertices than bins")
@@ -100,7 +96,7 @@ class _Radial:
         return f"K={p['K']}, n_thr={p['n_thr']}"
 
     def counts(self, mesh: Mesh, p: dict):
-        return _core.radial_counts(mesh.V, _referenced(mesh), p["K"], p["origin_mode"])[0]
+        return _core.radial_counts(mesh.V, mesh.referenced(), p["K"], p["origin_mode"])[0]
 
     def carriers(self, mesh: Mesh, p: dict):
         _, ca, cb = pair_counts(self.counts(mesh, p), p["K"])
@@ -108,7 +104,7 @@ class _Radial:
 
     def embed(self, mesh: Mesh, p: dict, side: dict, ids, bits):
         pm = np.where(np.asarray(bits) > 0, 1, -1)
-        r = _core.radial_embed(mesh.V, _referenced(mesh), p["K"], [int(i) for i in ids], pm.tolist(), p["n_thr"],
+        r = _core.radial_embed(mesh.V, mesh.referenced(), p["K"], [int(i) for i in ids], pm.tolist(), p["n_thr"],
                                p["origin_mode"], p["origin_iters"])
         st = {"n_moved": int(r["n_moved"])}
         if r["origin_drift"] >= 0:
@@ -147,7 +143,7 @@ def extract(V, F=None, keyfile=None, key=None, progress=None) -> framework.Extra
 
 def origin(V, F=None, origin_mode: str = "axis"):
     """§6.1.1: ``(o (3,), principal axis u (3,), standardised skewness along u)``."""
-    V, mask = _mask(V, F)
+    V, mask = vertices_and_mask(V, F)
     return _core.radial_origin(V, mask, origin_mode)
 
 
@@ -159,7 +155,7 @@ def embed_bits(V, F=None, bits=None, K: int = 400, n_thr: int | None = None, ori
     Returns ``(V' (n, 3) float64, info)`` with ``origin``, ``pairs`` (pair indices used), ``n_mov``,
     ``n_moved``, ``n_thr``, ``origin_drift``. MeshError if the mesh has fewer embeddable pairs than bits.
     """
-    V, mask = _mask(V, F)
+    V, mask = vertices_and_mask(V, F)
     b = np.asarray(bits).ravel()
     if b.size == 0 or not np.isin(b, (0, 1)).all():
         raise MeshError("bits must be a non-empty sequence of 0 and 1")
@@ -176,7 +172,7 @@ def embed_bits(V, F=None, bits=None, K: int = 400, n_thr: int | None = None, ori
 def extract_bits(V, F=None, n_bits: int = 64, K: int = 400, origin_mode: str = "axis"):
     """§6.2: origin and histogram from the mesh itself, embeddable pairs (eq. 6.2.8) in order,
     eq. 6.2.10. Returns ``(bits (n_bits,) uint8, counts (K,))`` (missing pairs read as 0)."""
-    V, mask = _mask(V, F)
+    V, mask = vertices_and_mask(V, F)
     K = check_int("K", K)
     counts = _core.radial_counts(V, mask, K, origin_mode)[0]
     _, ca, cb = pair_counts(counts, K)

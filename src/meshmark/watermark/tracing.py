@@ -54,8 +54,10 @@ from ..mesh import as_mesh
 from ..metrics import false_alarm_probability
 from . import informed as _informed
 from . import keys as _keys
-from .framework import DETECTION_THRESHOLD, MAX_ROUNDS, MIN_CARRIERS, _method, _weld, embed_channel
+from .framework import DETECTION_THRESHOLD, MAX_ROUNDS, MIN_CARRIERS, _weld, embed_channel
+from .informed import source_digest  # noqa: F401  (tracing.source_digest: part of this module's API)
 from .keyfile import Keyfile
+from .registry import method_named
 
 SCHEMA_VERSION = "1"
 # params="auto" for copies: the first rung of the ladder with at least 64 carriers (27 certify one
@@ -154,14 +156,6 @@ class Registry:
         return [r[0] for r in rows], np.unpackbits(packed, axis=1)[:, :n]
 
 
-def source_digest(mesh) -> str:
-    """SHA-256 of a (welded) mesh's float64 vertices and faces: identifies the original."""
-    h = hashlib.sha256(np.ascontiguousarray(mesh.V, np.float64).tobytes())
-    h.update(np.ascontiguousarray(mesh.face_indices, np.int64).tobytes())
-    h.update(np.ascontiguousarray(mesh.face_offsets, np.int64).tobytes())
-    return h.hexdigest()
-
-
 def _setup_keyfile(setup: dict, key: str) -> Keyfile:
     """A Keyfile-shaped view of an asset's setup (for the framework's carrier reading)."""
     return Keyfile(method=setup["method"], params=setup["params"], key=key, payload={}, weld=setup["weld"],
@@ -183,7 +177,7 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
     report = progress or (lambda f, t: None)
     mesh_in = as_mesh(V, F)
     key = _keys.check_key(key)
-    m = _method(method)
+    m = method_named(method)
     reg = registry if isinstance(registry, Registry) else Registry(registry)
     try:
         existing = reg.copy_ids()
