@@ -1,13 +1,13 @@
 """The ``meshmark`` command line. Every subcommand takes ``--json`` for scripts."""
 from __future__ import annotations
 
-import json
 import os
 import sys
 import traceback
 
 import click
 
+from . import jsonout
 from ._core import MeshError
 
 # Exit status of every command (implemented once, in _Group; documented in `meshmark --help`).
@@ -25,7 +25,7 @@ def _safe(text) -> str:
 
 
 def _emit(result: dict, as_json: bool, text: str) -> None:
-    click.echo(json.dumps(result, indent=2, sort_keys=False) if as_json else _safe(text))
+    click.echo(jsonout.dumps(result) if as_json else _safe(text))
 
 
 def _format_info(path: str, d: dict) -> str:

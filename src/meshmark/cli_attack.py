@@ -1,15 +1,15 @@
 """``meshmark attack``: one attack (``--type``) or a chain (``--chain``) of meshmark.attacks."""
 from __future__ import annotations
 
-import json
 
 import click
 
+from . import jsonout
 from ._core import MeshError
 
 
 def _emit(result: dict, as_json: bool, text: str) -> None:
-    text = json.dumps(result, indent=2, sort_keys=False) if as_json else str(text)
+    text = jsonout.dumps(result) if as_json else str(text)
     click.echo(text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace"))
 
 

@@ -1,16 +1,16 @@
 """``meshmark analyze``: the distortion analysis of thesis ch. 3-5 on a mesh file."""
 from __future__ import annotations
 
-import json
 import math
 
 import click
 
+from .. import jsonout
 from .._core import MeshError
 
 
 def _emit(result: dict, as_json: bool, text: str) -> None:
-    click.echo(json.dumps(result, indent=2) if as_json else text)
+    click.echo(jsonout.dumps(result) if as_json else text)
 
 
 def _tolerances(text: str) -> list[float]:

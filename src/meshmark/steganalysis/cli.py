@@ -3,17 +3,17 @@ meshmark.cli; ``cho`` lives there). Bad input raises MeshError (exit status 2)."
 from __future__ import annotations
 
 import csv
-import json
 import pathlib
 import sys
 
 import click
 
+from .. import jsonout
 from .._core import MeshError
 
 
 def _emit(d, as_json, text):
-    click.echo(json.dumps(d, indent=2) if as_json else text)
+    click.echo(jsonout.dumps(d) if as_json else text)
 
 
 def _set_option(f):

@@ -1,12 +1,13 @@
 """``meshmark stego embed | extract | capacity`` (thesis §4.3.2). Registered by one line in meshmark.cli."""
 from __future__ import annotations
 
-import json
 import os
 import sys
 import tempfile
 
 import click
+
+from .. import jsonout
 import numpy as np
 
 from .._core import MeshError
@@ -50,7 +51,7 @@ def _adaptive_arg(adaptive: str):
 
 
 def _emit(d: dict, as_json: bool, text: str) -> None:
-    click.echo(json.dumps(d, indent=2) if as_json else text)
+    click.echo(jsonout.dumps(d) if as_json else text)
 
 
 def write_verified(path: str, mesh, V: np.ndarray, precision: str, check, source=None) -> None:

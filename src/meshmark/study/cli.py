@@ -1,12 +1,12 @@
 """``meshmark study run|status|plot`` (registered by one line at the end of meshmark/cli.py)."""
 from __future__ import annotations
 
-import json
 import os
 import sys
 
 import click
 
+from .. import jsonout
 from .._core import MeshError
 
 
@@ -63,14 +63,14 @@ def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run,
                 d["done"] = len(engine.finished_keys(out) & set(keys))
             except Exception:  # noqa: BLE001 - a dry run reports what it can
                 pass
-        click.echo(json.dumps(d, indent=1) if as_json else
+        click.echo(jsonout.dumps(d, indent=1) if as_json else
                    f"{d['tasks']} tasks ({d['meshes']} meshes x {d['methods']} methods x {d['seeds']} seeds x "
                    f"{d['attacks']} attacks), {d['unique_keys']} unique keys, planned in {d['seconds']} s")
         return
     S = engine.run(spec, out, workers=workers, dask=dask, progress=progress, retries=retries,
                    ship_meshes=ship_meshes, chunk_size=chunk_size)
     if as_json:
-        click.echo(json.dumps(S.to_dict(), indent=1))
+        click.echo(jsonout.dumps(S.to_dict(), indent=1))
     else:
         click.echo(f"{S.planned} planned, {S.skipped} already done, {S.ok} ok, {S.mesh_error} mesh errors, "
                    f"{S.failed} failed; {S.wall:.1f} s. Results: {out}/results")
@@ -87,7 +87,7 @@ def status_cmd(out, spec, as_json):
     from . import engine
     d = engine.status(out, spec)
     if as_json:
-        click.echo(json.dumps(d, indent=1))
+        click.echo(jsonout.dumps(d, indent=1))
         return
     lines = [f"{d['rows']} results: " + ", ".join(f"{v} {k}" for k, v in d["by_status"].items())]
     if "planned" in d:
