@@ -368,7 +368,11 @@ def compare(mesh_a, mesh_b, samples, seed, as_json):
     (absolute and relative to A's bounding-box diagonal), normal degradation (eq. 3.2.2) in degrees."""
     from . import read_mesh
     from .metrics import compare as run_compare
+    from .ranges import check_int, check_seed
 
+    if samples is not None:  # before the meshes are read; 10^7 samples hold 240 MB of points
+        check_int("samples", samples, 0, 10_000_000)
+    check_seed(seed)
     d = run_compare(read_mesh(mesh_a), read_mesh(mesh_b), n_samples=samples, seed=seed)
     d = {"a": mesh_a, "b": mesh_b, **d}
     _emit(d, as_json, _format_compare(mesh_a, mesh_b, d))

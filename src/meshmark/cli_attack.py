@@ -1,6 +1,7 @@
 """``meshmark attack``: one attack (``--type``) or a chain (``--chain``) of meshmark.attacks."""
 from __future__ import annotations
 
+import math
 
 import click
 
@@ -36,6 +37,35 @@ def _vec(text, name):
         raise MeshError(f"--{name} needs 3 numbers like 1,0,0, got {text!r}")
     return parts
 
+
+_INF = math.inf
+# Ranges of the numeric options, checked before the mesh is read (exit 2 naming the option); the
+# attack functions check them again for API callers. Per type where the meaning differs.
+_FLOAT_RANGES = {  # dest -> (low, high, low_open, high_open)
+    "strength": (0.0, _INF, False, True), "lam": (-_INF, _INF, True, True), "edge_length": (0.0, 100.0, True, False),
+    "degrees": (-_INF, _INF, True, True), "joint": (-_INF, _INF, True, True), "width": (0.0, _INF, True, True),
+    "angle": (-_INF, _INF, True, True), "factor": (0.0, _INF, True, True),
+}
+_FRACTION = {"simplify": (0.0, 1.0, True, False), "crop": (0.0, 1.0, False, True)}
+_INT_RANGES = {"iterations": (0, 10_000), "bits": (1, 52), "levels": (0, 6), "decimals": (0, 17),
+               "seed": (0, 2 ** 64 - 1)}
+_PER_TYPE_INT = {("remesh", "iterations"): (1, 100)}
+
+
+def check_options(name, opts: dict) -> None:
+    """ParameterError (exit 2, the option named) for a numeric option outside its range."""
+    from .ranges import check_float, check_int
+    for k, v in opts.items():
+        if v is None:
+            continue
+        if k in _INT_RANGES:
+            check_int(k, v, *_PER_TYPE_INT.get((name, k), _INT_RANGES[k]))
+        elif k == "fraction":
+            lo, hi, lo_open, hi_open = _FRACTION.get(name, (0.0, 1.0, False, False))
+            check_float(k, v, lo, hi, low_open=lo_open, high_open=hi_open)
+        elif k in _FLOAT_RANGES:
+            lo, hi, lo_open, hi_open = _FLOAT_RANGES[k]
+            check_float(k, v, lo, hi, low_open=lo_open, high_open=hi_open)
 
 @click.command()
 @click.argument("mesh_in", metavar="IN")
@@ -100,6 +130,7 @@ def attack(mesh_in, mesh_out, name, chain_text, as_json, **opts):
         given = [_OPTION_NAMES.get(k, "--" + k) for k, v in opts.items() if v is not None and k != "seed"]
         if given:
             raise MeshError(f"--chain takes only --seed; give the other parameters in the steps ({', '.join(given)})")
+        check_options(None, {"seed": opts["seed"]})
         steps = parse_chain(chain_text)  # bad text: exit 2 naming the step, before the mesh is read
         seed = 0 if opts["seed"] is None else opts["seed"]
         m, fmt = read_mesh(mesh_in, return_info=True)
@@ -116,6 +147,7 @@ def attack(mesh_in, mesh_out, name, chain_text, as_json, **opts):
         bad = [_OPTION_NAMES.get(k, "--" + k) for k, v in opts.items() if v is not None and _ATTACK_OPTIONS[k] not in accepted]
         if bad:
             raise MeshError(f"--type {name} does not take {', '.join(bad)}")
+        check_options(name, opts)
         m, fmt = read_mesh(mesh_in, return_info=True)
         out = run_attack(m, name=name, **params)
         label = name

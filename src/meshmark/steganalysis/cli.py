@@ -74,7 +74,9 @@ def add_commands(group: click.Group) -> None:
         from . import protocol as P
         from .model import Model, corpus_hash
 
+        from ..ranges import check_seed
         check_output_path(out)  # before hours of training (issue 23)
+        check_seed(seed)
         paths = P.mesh_files(covers)
         if not paths:
             raise MeshError(f"empty training corpus: no .obj/.off/.ply/.stl meshes in {', '.join(covers)}")
@@ -163,6 +165,9 @@ def add_commands(group: click.Group) -> None:
         leave one source out), specific and universal detectors, median accuracy / TPR / FPR / P_E."""
         from . import protocol as P
 
+        from ..ranges import check_float, check_int
+        check_int("splits", splits, 1, 10_000)  # before the corpus is read
+        check_float("test_fraction", test_fraction, 0.0, 1.0, low_open=True, high_open=True)
         if dataset:
             check_output_path(dataset)
         paths = P.mesh_files(covers)

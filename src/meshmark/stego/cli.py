@@ -46,6 +46,15 @@ def _key(key, key_file):
     return key
 
 
+def _check_common(tolerance, level) -> None:
+    """--tolerance in (0, 180] degrees and --level in 0..32, before the mesh is read (exit 2 naming
+    the option)."""
+    from ..ranges import check_float, check_int
+    check_float("tolerance", tolerance, 0.0, 180.0, low_open=True)
+    if level is not None:
+        check_int("level", level, 0, 32)
+
+
 def _adaptive_arg(adaptive: str):
     return {"triangle": True, "curvature": "curvature", "global": False}[adaptive]
 
@@ -147,6 +156,7 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
             raise MeshError(f"--message-file {message_file}: {exc.strerror}") from None
     else:
         payload = message.encode("utf-8")
+    _check_common(tolerance, level)
     k = _key(key, key_file)
     mesh, fmt = read_mesh(inp, return_info=True)
     kw = dict(tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=precision, levels=level)
@@ -180,6 +190,7 @@ def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_f
     from ..io import read_mesh
     from . import extract
 
+    _check_common(tolerance, level)
     k = _key(key, key_file)
     mesh = read_mesh(inp)
     r = extract(mesh, k, tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=precision, levels=level)
@@ -221,6 +232,7 @@ def capacity_cmd(inp, tolerance, adaptive, level, precision, as_json):
     from ..io import read_mesh
     from . import capacity
 
+    _check_common(tolerance, level)
     mesh = read_mesh(inp)
     precs = ["fixed32", "float32", "float64"] if precision == "all" else [precision]
     rows = [capacity(mesh, tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=p, levels=level)

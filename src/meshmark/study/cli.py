@@ -46,8 +46,12 @@ def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run,
     from .spec import load_spec, plan
     import time
 
-    if workers is not None and workers < 0:
-        raise MeshError(f"--workers must be >= 0, got {workers}")
+    from ..ranges import check_int
+    if workers is not None:
+        check_int("workers", workers, 0, 1024)
+    if chunk_size is not None:
+        check_int("chunk_size", chunk_size, 1, 1_000_000)
+    check_int("retries", retries, 0, 100)
     if workers is not None and dask:
         raise MeshError("give --workers or --dask, not both")
     dask = _dask_option(dask)
