@@ -360,8 +360,8 @@ def _format_compare(a, b, d):
 @main.command()
 @click.argument("mesh_a", metavar="A")
 @click.argument("mesh_b", metavar="B")
-@click.option("--samples", type=int, default=None, help="Area samples per direction (default 2 x triangles), plus the vertices.")
-@click.option("--seed", type=int, default=0, show_default=True, help="Sampling seed.")
+@click.option("--samples", type=int, default=None, help="Area samples per direction, 0..10,000,000 (default 2 x triangles), plus the vertices.")
+@click.option("--seed", type=int, default=0, show_default=True, help="Sampling seed, 0..2^63-1.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def compare(mesh_a, mesh_b, samples, seed, as_json):
     """Distortion of B relative to the reference A: vertex RMSE, Hausdorff and RMS surface distance

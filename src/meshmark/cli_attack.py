@@ -77,18 +77,18 @@ def check_options(name, opts: dict) -> None:
               help="Several attacks in order instead of --type, e.g. \"bend:30,simplify:0.5,noise:0.001,similarity,"
                    "reorder,roundtrip:obj\" (NAME[:VALUE][:KEY=VALUE...], comma-separated; docs/attacks.md). "
                    "Random steps get --seed + their position (from 0).")
-@click.option("--strength", type=float, help="noise: amplitude as a fraction of the mean vertex-centroid distance (0.0025 = 0.25 %).")
+@click.option("--strength", type=float, help="noise: amplitude as a fraction of the mean vertex-centroid distance (0.0025 = 0.25 %), >= 0.")
 @click.option("--kind", help="noise: uniform (default), gaussian, normal, tangent.")
 @click.option("--lambda", "lam", type=float, help="smooth: factor (default 0.02).")
-@click.option("--iterations", type=int, help="smooth: iterations (default 10); remesh: rounds (default 3).")
+@click.option("--iterations", type=int, help="smooth: iterations, 0..10,000 (default 10); remesh: rounds, 1..100 (default 3).")
 @click.option("--weights", help="smooth: uniform (default) or cotangent.")
-@click.option("--bits", type=int, help="quantize: bits per coordinate; dither: bits kept.")
+@click.option("--bits", type=int, help="quantize: bits per coordinate; dither: bits kept; 1..52.")
 @click.option("--word", help="dither: fixed32 (default) or float64.")
-@click.option("--fraction", type=float, help="simplify: fraction of faces kept; crop: fraction of the extent removed.")
+@click.option("--fraction", type=float, help="simplify: fraction of faces kept, (0, 1]; crop: fraction of the extent removed, [0, 1).")
 @click.option("--scheme", help="subdivide: loop (default) or midpoint.")
-@click.option("--levels", type=int, help="subdivide: levels (default 1).")
+@click.option("--levels", type=int, help="subdivide: levels, 0..6 (default 1).")
 @click.option("--edge-length", "edge_length", type=float,
-              help="remesh: target edge length as a multiple of the mean edge length (default 1).")
+              help="remesh: target edge length as a multiple of the mean edge length, (0, 100] (default 1).")
 @click.option("--degrees", type=float, help="bend: angle in degrees (default 30).")
 @click.option("--joint", type=float, help="bend: joint position, a fraction of the extent along the bone (default 0.5).")
 @click.option("--width", type=float, help="bend: half-width of the blend zone, a fraction of the extent (default 0.1).")
@@ -99,10 +99,10 @@ def check_options(name, opts: dict) -> None:
 @click.option("--angle", type=float, help="rotate: degrees.")
 @click.option("--normal", help="crop: plane normal as x,y,z (default 1,0,0).")
 @click.option("--offset", help="translate: x,y,z.")
-@click.option("--factor", type=float, help="scale: factor.")
+@click.option("--factor", type=float, help="scale: factor, > 0.")
 @click.option("--format", "fmt", help="roundtrip: obj (6 decimals, default), ply (float), stl.")
-@click.option("--decimals", type=int, help="roundtrip obj: decimals written (default 6).")
-@click.option("--seed", type=int, help="random attacks: seed (default 0).")
+@click.option("--decimals", type=int, help="roundtrip obj: decimals written, 0..17 (default 6).")
+@click.option("--seed", type=int, help="random attacks: seed, 0..2^64-1 (default 0).")
 @click.option("--json", "as_json", is_flag=True, help="Print a summary (with the distortion) as JSON.")
 def attack(mesh_in, mesh_out, name, chain_text, as_json, **opts):
     """Apply an attack (--type) or a chain of attacks (--chain) to IN and write the result to OUT

@@ -50,7 +50,7 @@ def analyze():
 @click.argument("inp", metavar="IN")
 @click.option("--tolerance", default="1,5,10", show_default=True, help="Tolerances in degrees (comma-separated).")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random low bits.")
-@click.option("--repeats", type=int, default=1, show_default=True, help="Dithered samples per level (averaged).")
+@click.option("--repeats", type=int, default=1, show_default=True, help="Dithered samples per level (averaged), 1..1000.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def degradation(inp, tolerance, seed, repeats, as_json):
     """Ch. 3: fit D(t) = C / (1 + e^(-a - b t)) (eq. 3.2.1) to dis(M, M^t) at t = 12, 16, 20, 24, 28
@@ -144,8 +144,8 @@ def quantize(inp, out, tolerance, bound, adaptive, seed, as_json):
 @analyze.command()
 @click.argument("inp", metavar="IN")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the displacements.")
-@click.option("--repeats", type=int, default=1, show_default=True, help="Draws per level (averaged).")
-@click.option("--t-min", type=int, default=12, show_default=True, help="Smallest level of the linear fit.")
+@click.option("--repeats", type=int, default=1, show_default=True, help="Draws per level (averaged), 1..1000.")
+@click.option("--t-min", type=int, default=12, show_default=True, help="Smallest level of the linear fit, 1..19.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def curvature(inp, seed, repeats, t_min, as_json):
     """Ch. 5: mean change of the discrete Gaussian curvature (eq. 5.1.1) of the interior vertices under

@@ -148,8 +148,9 @@ def add_commands(group: click.Group) -> None:
     @click.argument("covers", nargs=-1, required=True)
     @_set_option
     @click.option("--classifier", type=click.Choice(["ensemble", "qda"]), default="ensemble", show_default=True)
-    @click.option("--splits", type=int, default=30, show_default=True)
-    @click.option("--test-fraction", type=float, default=0.3, show_default=True)
+    @click.option("--splits", type=int, default=30, show_default=True, help="Random splits, 1..10,000.")
+    @click.option("--test-fraction", type=float, default=0.3, show_default=True,
+                  help="Share of the covers tested per split, (0, 1).")
     @click.option("--methods", default=None, help="Comma-separated stego methods (default: all registered).")
     @click.option("--dataset", type=click.Path(dir_okay=False),
                   help="Cache of the features (.npz): read if present and built for the same covers, methods and sets, else written.")

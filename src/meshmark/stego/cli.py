@@ -18,7 +18,7 @@ _PRECISION = click.Choice(["fixed32", "float32", "float64"])
 
 def _common(f):
     f = click.option("--tolerance", type=float, default=1.0, show_default=True,
-                     help="Mean normal degradation budget, degrees (eq. 4.3.19).")(f)
+                     help="Mean normal degradation budget, degrees, (0, 180] (eq. 4.3.19).")(f)
     f = click.option("--adaptive", type=_ADAPTIVE, default="triangle", show_default=True,
                      help="Levels: per triangle with eps_j = tolerance (Table 4.4), curvature-dependent "
                           "eps_j (eq. 4.3.24), or one global level (eq. 4.3.21).")(f)
