@@ -248,16 +248,16 @@ def capacity(mesh, tolerance: float = 1.0, adaptive=True, precision: str = "fixe
 
 
 NO_MESSAGE = "no message for this key"  # the one answer to a wrong key, a clean mesh and a damaged one
-# A file with fewer than 32 LSB slots cannot hold even the corrective vector's length: no embedding
-# ever wrote one, and anyone can see it from the file (``stego capacity``), so saying so leaks nothing.
+# A file with fewer than 160 LSB slots cannot hold even the corrective vector's salt and length: no
+# embedding ever wrote one, and anyone can see it from the file, so saying so leaks nothing.
 TOO_SMALL = "mesh too small to carry a message"
 
 
 def _read_e(Vm, mesh, level_fn, precision, fr, key):
     """Recover t (eq. 4.3.27) from a marked carrier: (t, "", (salt, dkey)) or, when the LSBs hold
-    no corrective vector for this key, (t', reason, (salt, dkey)) with t' the marked mesh's own exponents, so
-    that the caller goes on with the same work whatever the file holds (docs/stego.md, "What an
-    observer learns"). The LSB stream is salt | mask(length | deflate(e)) (``crypto.mask``); dkey is
+    no corrective vector for this key, (t', reason, (salt, dkey)) with t' the marked mesh's own
+    exponents, so that the caller goes on with the same work whatever the file holds (docs/stego.md,
+    "What an observer learns"). The LSB stream is salt | mask(length | deflate(e)) (``crypto.mask``); dkey is
     the key derived with that salt, the one derivation of an extraction; the frame repeats the salt."""
     t2, order2, first2, _ = _marked_order(Vm, mesh, level_fn, precision, fr)
     slots = int(_core.stego_lsb_capacity(Vm, precision, *fr, order2, first2))
