@@ -49,6 +49,13 @@ CASES = [  # (arguments, the option the message must name)
     (["analyze", "curvature", NO, "--t-min", "-3"], "--t-min"),
     (["analyze", "curvature", NO, "--t-min", "20"], "--t-min"),
     (["analyze", "curvature", NO, "--repeats", "0"], "--repeats"),
+    (["embed", NO, "{tmp}/o.obj", "--message", "m", "--key", "k", "--keyfile", "{tmp}/k.json", "--K", "3"], "--K"),
+    (["embed", NO, "{tmp}/o.obj", "--message", "m", "--key", "k", "--keyfile", "{tmp}/k.json", "--n-robust", "0"],
+     "--n-robust"),
+    (["capacity", NO, "--eps", "nan"], "--eps"),
+    (["capacity", NO, "--method", "cho-mean", "--alpha", "0.9"], "--alpha"),
+    (["capacity", NO, "--method", "cho-mean", "--guard", "0.3"], "--guard"),
+    (["capacity", NO, "--n-thr", "0"], "--n-thr"),
     (["study", "run", "/nonexistent.toml", "--out", "/tmp/x", "--workers", "-1"], "--workers"),
     (["study", "run", "/nonexistent.toml", "--out", "/tmp/x", "--chunk-size", "0"], "--chunk-size"),
     (["study", "run", "/nonexistent.toml", "--out", "/tmp/x", "--retries", "-1"], "--retries"),
@@ -56,12 +63,13 @@ CASES = [  # (arguments, the option the message must name)
 
 
 @pytest.mark.parametrize("args,option", CASES, ids=[" ".join(a[:2] + a[-2:]) for a, _ in CASES])
-def test_out_of_range_option_is_exit_2_naming_it(args, option):
-    r = CliRunner().invoke(cli, args)
+def test_out_of_range_option_is_exit_2_naming_it(tmp_path, args, option):
+    r = CliRunner().invoke(cli, [a.format(tmp=tmp_path) for a in args])
     assert r.exit_code == 2, (r.exit_code, r.output)
     first = r.output.strip().splitlines()[-1]
     assert first.startswith(f"meshmark: error: {option}: "), r.output
     assert "nonexistent" not in first  # checked before the input was looked at
+    assert not list(tmp_path.iterdir())  # and nothing written
 
 
 def test_train_out_in_missing_folder_is_exit_2_before_training(tmp_path):

@@ -182,11 +182,24 @@ def _method_options(f):
     return f
 
 
+_FLOAT_RANGES = {"eps": (0.0, 1.0, True, False), "alpha": (0.0, 0.5, True, True),  # ranges.py's table;
+                 "delta_k": (0.0, 1.0, True, True), "guard": (0.0, 0.25, False, True)}  # alpha refined per method
+
+
 def _params(**kw):
-    """The method parameters given on the command line (unset options and a false flag left out)."""
+    """The method parameters given on the command line (unset options and a false flag left out),
+    each checked against its range of meshmark.ranges before any mesh is read."""
+    from .ranges import RANGES, check_float, check_int
     if not kw.get("thesis_exact"):
         kw.pop("thesis_exact", None)
-    return {k: v for k, v in kw.items() if v is not None}
+    out = {k: v for k, v in kw.items() if v is not None}
+    for k, v in out.items():
+        if k in RANGES:
+            check_int(k, v)
+        elif k in _FLOAT_RANGES:
+            lo, hi, lo_open, hi_open = _FLOAT_RANGES[k]
+            check_float(k, v, lo, hi, low_open=lo_open, high_open=hi_open)
+    return out
 
 
 def _progress_bar(as_json: bool):
@@ -240,11 +253,12 @@ def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_b
     payload = Payload.from_text(message) if message is not None else Payload.from_bits(bits)
     from .watermark.keyfile import refuse_overwrite
     refuse_overwrite(keyfile, force, "--force")  # before any work: nothing is written if it exists
+    method_kw = _params(**method_params)  # ranges checked before the mesh is read
     mesh, fmt = read_mesh(inp, return_info=True)
     report, bar = _progress_bar(as_json)
     try:
         res = wm_embed(mesh, payload=payload, key=key, method=method, progress=report, params=params_mode,
-                       store_key=store_key, key_bins=key_bins, **_params(**method_params))
+                       store_key=store_key, key_bins=key_bins, **method_kw)
     finally:
         if bar is not None:
             bar.__exit__(None, None, None)
@@ -312,9 +326,9 @@ def capacity(inp, method, as_json, params_mode, **method_params):
     from .watermark.coding import max_data_bits
     from .watermark.payload import MAX_DATA_BITS
 
+    params = _params(**method_params)  # ranges checked before the mesh is read
     mesh = read_mesh(inp)
     m = METHODS[method]
-    params = _params(**method_params)
     weld = params.pop("weld")
     if weld:
         mesh = weld_vertices(mesh).mesh
