@@ -107,7 +107,9 @@ def main() -> int:
                 t0 = time.perf_counter()
                 stego.extract(mm, "a wrong key", precision=a.precision)
                 acc.append(time.perf_counter() - t0)
-    print(f"{len(pairs)} stego + {len(pairs)} clean meshes ({a.precision}); too small to embed into: {len(skipped)}")
+    n_gen = sum(name.startswith("generated") for name, _, _ in pairs)
+    print(f"{len(pairs)} stego + {len(pairs)} clean meshes ({a.precision}; bases: {len(pairs) - n_gen} shared, "
+          f"{n_gen} generated); too small to embed into: {len(skipped)}")
     print("answers (group, exit code, message) -> count:")
     for k, v in sorted(answers.items()):
         print(f"  {k}: {v}")
