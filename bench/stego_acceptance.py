@@ -128,7 +128,7 @@ def main():
         fn = lsb.level_function(1.0, True)
         E, o = meshmark._core.stego_frame(res.V, "fixed32")
         fr = (int(E), o)
-        t, _ = lsb._read_e(res.V, marked, fn, "fixed32", fr)
+        t, _, _ = lsb._read_e(res.V, marked, fn, "fixed32", fr, "right key")
         lay = lsb._layout(res.V, t, "fixed32", fr, marked)
         head = meshmark._core.stego_read_bits(res.V, t, "fixed32", *fr, lay.order, lay.first, 8 * crypto.HEADER)
         t0 = time.perf_counter()

@@ -197,7 +197,7 @@ def test_cli_json_outputs(tmp_path):
     (("quantization", "{cow}", "--tolerance", "-2"), "tolerance"),
     (("degradation", "{cow}", "--tolerance", "1,x"), "--tolerance"),
     (("quantize", "{cow}", "{out}", "--tolerance", "0"), "tolerance"),
-    (("curvature", "{cow}", "--t-min", "30"), "at least 2 levels"),
+    (("curvature", "{cow}", "--t-min", "30"), "--t-min: t_min must be at most 19"),
     (("quantization", "{missing}", "--tolerance", "1"), ""),
     (("quantization", "{flat}", "--tolerance", "1"), "no usable triangle"),
     (("quantize", "{flat}", "{out}", "--tolerance", "1"), "no usable triangle"),

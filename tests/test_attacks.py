@@ -414,8 +414,8 @@ def test_cli_attack_is_seeded(tmp_path):
 
 
 @pytest.mark.parametrize("args, match", [
-    (["--type", "noise", "--strength", "-0.1"], "strength must be >= 0"),
-    (["--type", "crop", "--fraction", "1.5"], "crop fraction must be in"),
+    (["--type", "noise", "--strength", "-0.1"], "--strength: strength must be in [0, inf)"),
+    (["--type", "crop", "--fraction", "1.5"], "--fraction: fraction must be in [0, 1)"),
     (["--type", "simplify", "--fraction", "2"], "fraction"),
     (["--type", "sharpen"], "unknown attack type 'sharpen'"),
     (["--type", "noise", "--strength", "0.1", "--bits", "3"], "does not take --bits"),

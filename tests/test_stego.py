@@ -102,7 +102,7 @@ def test_wrong_key_and_damage_give_no_message(bunny):
     # the carrier does not depend on the key: many wrong keys through the same header check
     fr = tuple(_core.stego_frame(res.V, "fixed32"))
     fr = (int(fr[0]), fr[1])
-    t, _ = lsb._read_e(res.V, marked, lsb.level_function(1.0), "fixed32", fr)
+    t, _, _ = lsb._read_e(res.V, marked, lsb.level_function(1.0), "fixed32", fr, KEY)
     assert np.array_equal(t, res.t)
     lay = lsb._layout(res.V, t, "fixed32", fr, marked)
     head = _core.stego_read_bits(res.V, t, "fixed32", *fr, lay.order, lay.first, 8 * crypto.HEADER)
@@ -114,8 +114,13 @@ def test_wrong_key_and_damage_give_no_message(bunny):
     assert not stego.extract(bunny, KEY, tolerance=1.0).found
     V = res.V.copy()
     i = lay.order[0]  # the first message vertex carries the header
-    V[i, 0] = np.nextafter(V[i, 0], np.inf)
+    V[i, 0] -= 2.0 ** (fr[0] - 31)  # two fixed32 grid steps: another message bit
     assert not stego.extract(bunny.with_vertices(V), KEY, tolerance=1.0).found
+    # within its own word (a float64 nudge below the fixed32 grid step): the same carrier word, which
+    # extraction reads after snapping every vertex to its word (docs/stego.md §5)
+    V = res.V.copy()
+    V[i, 0] = np.nextafter(V[i, 0], np.inf)
+    assert stego.extract(bunny.with_vertices(V), KEY, tolerance=1.0).message == b"the secret"
 
 
 def test_bad_input(bunny, tmp_path):

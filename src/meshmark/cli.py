@@ -1,13 +1,13 @@
 """The ``meshmark`` command line. Every subcommand takes ``--json`` for scripts."""
 from __future__ import annotations
 
-import json
 import os
 import sys
 import traceback
 
 import click
 
+from . import jsonout
 from ._core import MeshError
 
 # Exit status of every command (implemented once, in _Group; documented in `meshmark --help`).
@@ -25,7 +25,7 @@ def _safe(text) -> str:
 
 
 def _emit(result: dict, as_json: bool, text: str) -> None:
-    click.echo(json.dumps(result, indent=2, sort_keys=False) if as_json else _safe(text))
+    click.echo(jsonout.dumps(result) if as_json else _safe(text))
 
 
 def _format_info(path: str, d: dict) -> str:
@@ -182,11 +182,24 @@ def _method_options(f):
     return f
 
 
+_FLOAT_RANGES = {"eps": (0.0, 1.0, True, False), "alpha": (0.0, 0.5, True, True),  # ranges.py's table;
+                 "delta_k": (0.0, 1.0, True, True), "guard": (0.0, 0.25, False, True)}  # alpha refined per method
+
+
 def _params(**kw):
-    """The method parameters given on the command line (unset options and a false flag left out)."""
+    """The method parameters given on the command line (unset options and a false flag left out),
+    each checked against its range of meshmark.ranges before any mesh is read."""
+    from .ranges import RANGES, check_float, check_int
     if not kw.get("thesis_exact"):
         kw.pop("thesis_exact", None)
-    return {k: v for k, v in kw.items() if v is not None}
+    out = {k: v for k, v in kw.items() if v is not None}
+    for k, v in out.items():
+        if k in RANGES:
+            check_int(k, v)
+        elif k in _FLOAT_RANGES:
+            lo, hi, lo_open, hi_open = _FLOAT_RANGES[k]
+            check_float(k, v, lo, hi, low_open=lo_open, high_open=hi_open)
+    return out
 
 
 def _progress_bar(as_json: bool):
@@ -240,11 +253,12 @@ def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_b
     payload = Payload.from_text(message) if message is not None else Payload.from_bits(bits)
     from .watermark.keyfile import refuse_overwrite
     refuse_overwrite(keyfile, force, "--force")  # before any work: nothing is written if it exists
+    method_kw = _params(**method_params)  # ranges checked before the mesh is read
     mesh, fmt = read_mesh(inp, return_info=True)
     report, bar = _progress_bar(as_json)
     try:
         res = wm_embed(mesh, payload=payload, key=key, method=method, progress=report, params=params_mode,
-                       store_key=store_key, key_bins=key_bins, **_params(**method_params))
+                       store_key=store_key, key_bins=key_bins, **method_kw)
     finally:
         if bar is not None:
             bar.__exit__(None, None, None)
@@ -312,9 +326,9 @@ def capacity(inp, method, as_json, params_mode, **method_params):
     from .watermark.coding import max_data_bits
     from .watermark.payload import MAX_DATA_BITS
 
+    params = _params(**method_params)  # ranges checked before the mesh is read
     mesh = read_mesh(inp)
     m = METHODS[method]
-    params = _params(**method_params)
     weld = params.pop("weld")
     if weld:
         mesh = weld_vertices(mesh).mesh
@@ -360,15 +374,19 @@ def _format_compare(a, b, d):
 @main.command()
 @click.argument("mesh_a", metavar="A")
 @click.argument("mesh_b", metavar="B")
-@click.option("--samples", type=int, default=None, help="Area samples per direction (default 2 x triangles), plus the vertices.")
-@click.option("--seed", type=int, default=0, show_default=True, help="Sampling seed.")
+@click.option("--samples", type=int, default=None, help="Area samples per direction, 0..10,000,000 (default 2 x triangles), plus the vertices.")
+@click.option("--seed", type=int, default=0, show_default=True, help="Sampling seed, 0..2^63-1.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def compare(mesh_a, mesh_b, samples, seed, as_json):
     """Distortion of B relative to the reference A: vertex RMSE, Hausdorff and RMS surface distance
     (absolute and relative to A's bounding-box diagonal), normal degradation (eq. 3.2.2) in degrees."""
     from . import read_mesh
     from .metrics import compare as run_compare
+    from .ranges import check_int, check_seed
 
+    if samples is not None:  # before the meshes are read; 10^7 samples hold 240 MB of points
+        check_int("samples", samples, 0, 10_000_000)
+    check_seed(seed)
     d = run_compare(read_mesh(mesh_a), read_mesh(mesh_b), n_samples=samples, seed=seed)
     d = {"a": mesh_a, "b": mesh_b, **d}
     _emit(d, as_json, _format_compare(mesh_a, mesh_b, d))

@@ -1,15 +1,16 @@
 """``meshmark attack``: one attack (``--type``) or a chain (``--chain``) of meshmark.attacks."""
 from __future__ import annotations
 
-import json
+import math
 
 import click
 
+from . import jsonout
 from ._core import MeshError
 
 
 def _emit(result: dict, as_json: bool, text: str) -> None:
-    text = json.dumps(result, indent=2, sort_keys=False) if as_json else str(text)
+    text = jsonout.dumps(result) if as_json else str(text)
     click.echo(text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace"))
 
 
@@ -37,6 +38,35 @@ def _vec(text, name):
     return parts
 
 
+_INF = math.inf
+# Ranges of the numeric options, checked before the mesh is read (exit 2 naming the option); the
+# attack functions check them again for API callers. Per type where the meaning differs.
+_FLOAT_RANGES = {  # dest -> (low, high, low_open, high_open)
+    "strength": (0.0, _INF, False, True), "lam": (-_INF, _INF, True, True), "edge_length": (0.0, 100.0, True, False),
+    "degrees": (-_INF, _INF, True, True), "joint": (-_INF, _INF, True, True), "width": (0.0, _INF, True, True),
+    "angle": (-_INF, _INF, True, True), "factor": (0.0, _INF, True, True),
+}
+_FRACTION = {"simplify": (0.0, 1.0, True, False), "crop": (0.0, 1.0, False, True)}
+_INT_RANGES = {"iterations": (0, 10_000), "bits": (1, 52), "levels": (0, 6), "decimals": (0, 17),
+               "seed": (0, 2 ** 64 - 1)}
+_PER_TYPE_INT = {("remesh", "iterations"): (1, 100)}
+
+
+def check_options(name, opts: dict) -> None:
+    """ParameterError (exit 2, the option named) for a numeric option outside its range."""
+    from .ranges import check_float, check_int
+    for k, v in opts.items():
+        if v is None:
+            continue
+        if k in _INT_RANGES:
+            check_int(k, v, *_PER_TYPE_INT.get((name, k), _INT_RANGES[k]))
+        elif k == "fraction":
+            lo, hi, lo_open, hi_open = _FRACTION.get(name, (0.0, 1.0, False, False))
+            check_float(k, v, lo, hi, low_open=lo_open, high_open=hi_open)
+        elif k in _FLOAT_RANGES:
+            lo, hi, lo_open, hi_open = _FLOAT_RANGES[k]
+            check_float(k, v, lo, hi, low_open=lo_open, high_open=hi_open)
+
 @click.command()
 @click.argument("mesh_in", metavar="IN")
 @click.argument("mesh_out", metavar="OUT")
@@ -47,18 +77,18 @@ def _vec(text, name):
               help="Several attacks in order instead of --type, e.g. \"bend:30,simplify:0.5,noise:0.001,similarity,"
                    "reorder,roundtrip:obj\" (NAME[:VALUE][:KEY=VALUE...], comma-separated; docs/attacks.md). "
                    "Random steps get --seed + their position (from 0).")
-@click.option("--strength", type=float, help="noise: amplitude as a fraction of the mean vertex-centroid distance (0.0025 = 0.25 %).")
+@click.option("--strength", type=float, help="noise: amplitude as a fraction of the mean vertex-centroid distance (0.0025 = 0.25 %), >= 0.")
 @click.option("--kind", help="noise: uniform (default), gaussian, normal, tangent.")
 @click.option("--lambda", "lam", type=float, help="smooth: factor (default 0.02).")
-@click.option("--iterations", type=int, help="smooth: iterations (default 10); remesh: rounds (default 3).")
+@click.option("--iterations", type=int, help="smooth: iterations, 0..10,000 (default 10); remesh: rounds, 1..100 (default 3).")
 @click.option("--weights", help="smooth: uniform (default) or cotangent.")
-@click.option("--bits", type=int, help="quantize: bits per coordinate; dither: bits kept.")
+@click.option("--bits", type=int, help="quantize: bits per coordinate; dither: bits kept; 1..52.")
 @click.option("--word", help="dither: fixed32 (default) or float64.")
-@click.option("--fraction", type=float, help="simplify: fraction of faces kept; crop: fraction of the extent removed.")
+@click.option("--fraction", type=float, help="simplify: fraction of faces kept, (0, 1]; crop: fraction of the extent removed, [0, 1).")
 @click.option("--scheme", help="subdivide: loop (default) or midpoint.")
-@click.option("--levels", type=int, help="subdivide: levels (default 1).")
+@click.option("--levels", type=int, help="subdivide: levels, 0..6 (default 1).")
 @click.option("--edge-length", "edge_length", type=float,
-              help="remesh: target edge length as a multiple of the mean edge length (default 1).")
+              help="remesh: target edge length as a multiple of the mean edge length, (0, 100] (default 1).")
 @click.option("--degrees", type=float, help="bend: angle in degrees (default 30).")
 @click.option("--joint", type=float, help="bend: joint position, a fraction of the extent along the bone (default 0.5).")
 @click.option("--width", type=float, help="bend: half-width of the blend zone, a fraction of the extent (default 0.1).")
@@ -69,10 +99,10 @@ def _vec(text, name):
 @click.option("--angle", type=float, help="rotate: degrees.")
 @click.option("--normal", help="crop: plane normal as x,y,z (default 1,0,0).")
 @click.option("--offset", help="translate: x,y,z.")
-@click.option("--factor", type=float, help="scale: factor.")
+@click.option("--factor", type=float, help="scale: factor, > 0.")
 @click.option("--format", "fmt", help="roundtrip: obj (6 decimals, default), ply (float), stl.")
-@click.option("--decimals", type=int, help="roundtrip obj: decimals written (default 6).")
-@click.option("--seed", type=int, help="random attacks: seed (default 0).")
+@click.option("--decimals", type=int, help="roundtrip obj: decimals written, 0..17 (default 6).")
+@click.option("--seed", type=int, help="random attacks: seed, 0..2^64-1 (default 0).")
 @click.option("--json", "as_json", is_flag=True, help="Print a summary (with the distortion) as JSON.")
 def attack(mesh_in, mesh_out, name, chain_text, as_json, **opts):
     """Apply an attack (--type) or a chain of attacks (--chain) to IN and write the result to OUT
@@ -100,6 +130,7 @@ def attack(mesh_in, mesh_out, name, chain_text, as_json, **opts):
         given = [_OPTION_NAMES.get(k, "--" + k) for k, v in opts.items() if v is not None and k != "seed"]
         if given:
             raise MeshError(f"--chain takes only --seed; give the other parameters in the steps ({', '.join(given)})")
+        check_options(None, {"seed": opts["seed"]})
         steps = parse_chain(chain_text)  # bad text: exit 2 naming the step, before the mesh is read
         seed = 0 if opts["seed"] is None else opts["seed"]
         m, fmt = read_mesh(mesh_in, return_info=True)
@@ -116,6 +147,7 @@ def attack(mesh_in, mesh_out, name, chain_text, as_json, **opts):
         bad = [_OPTION_NAMES.get(k, "--" + k) for k, v in opts.items() if v is not None and _ATTACK_OPTIONS[k] not in accepted]
         if bad:
             raise MeshError(f"--type {name} does not take {', '.join(bad)}")
+        check_options(name, opts)
         m, fmt = read_mesh(mesh_in, return_info=True)
         out = run_attack(m, name=name, **params)
         label = name

@@ -2,12 +2,12 @@
 from __future__ import annotations
 
 import csv
-import json
 import os
 import sys
 
 import click
 
+from . import jsonout
 from ._core import MeshError
 
 
@@ -66,7 +66,7 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
         paths[cid] = path
     tracing.set_paths(registry, paths)
     d = {"input": inp, "registry": registry, "copies": [{"id": c, "path": p} for c, p in paths.items()]}
-    click.echo(json.dumps(d, indent=2) if as_json else
+    click.echo(jsonout.dumps(d) if as_json else
                f"issued {len(paths)} copies of {inp} into {outdir} (ids {out[0][0]}..{out[-1][0]}); registry {registry}")
 
 
@@ -98,7 +98,7 @@ def trace(suspect, registry, key, original, as_json):
             f"copies, evidence {r['evidence']})" if r["detected"] else
             f"{suspect}: none ({ev}; P(false alarm) {r['p_false_alarm']:.3g} over {r['n_copies']} copies, "
             f"evidence {r['evidence']})")
-    click.echo(json.dumps(d, indent=2, default=float) if as_json else text)
+    click.echo(jsonout.dumps(d) if as_json else text)
     sys.exit(0 if r["detected"] else 1)
 
 

@@ -40,6 +40,14 @@ RANGES = {  # name -> (low, high) for integers, documented above
     "origin_iters": (0, MAX_ITERS),
 }
 
+MAX_SEED = 2 ** 63 - 1  # numpy generators take any non-negative int; 63 bits fit every binding
+
+
+def check_seed(value, name: str = "seed") -> int:
+    """A random seed: an integer in 0 .. 2^63 - 1."""
+    return check_int(name, value, 0, MAX_SEED)
+
+
 UNITS = {"K": " bins", "center_iters": " rounds", "origin_iters": " rounds"}
 
 

@@ -124,7 +124,7 @@ def reveal_steps(context, obj, *, key=None, tolerance=1.0, adaptive="triangle", 
     t_native = time.perf_counter() - t0
     d = {"found": got.found, "detected": got.found, "reason": got.reason, "tolerance_deg": float(tolerance),
          "adaptive": adaptive, "seconds_native": t_native}
-    if not got.found and got.reason in ("too few LSB slots", "carrier too small"):
+    if not got.found and got.reason == stego.TOO_SMALL:
         raise MeshError(f"mesh too small to hold hidden data ({mesh.n_vertices} vertices)")
     if not got.found:
         return Outcome(REVEAL, [obj.name], "WARNING", f"Nothing hidden found in '{obj.name}' with this key and settings", d)

@@ -1,16 +1,16 @@
 """``meshmark analyze``: the distortion analysis of thesis ch. 3-5 on a mesh file."""
 from __future__ import annotations
 
-import json
 import math
 
 import click
 
+from .. import jsonout
 from .._core import MeshError
 
 
 def _emit(result: dict, as_json: bool, text: str) -> None:
-    click.echo(json.dumps(result, indent=2) if as_json else text)
+    click.echo(jsonout.dumps(result) if as_json else text)
 
 
 def _tolerances(text: str) -> list[float]:
@@ -26,6 +26,17 @@ def _tolerances(text: str) -> list[float]:
     return vals
 
 
+def _check(seed=0, repeats=1, t_min=None) -> None:
+    """The numeric options against their ranges before the mesh is read (exit 2 naming the option):
+    --seed 0..2^63-1, --repeats 1..1000 (each repeat redoes the whole measurement), --t-min 1..19
+    (the levels are t = 1..20 and the fit needs two)."""
+    from ..ranges import check_int, check_seed
+    check_seed(seed)
+    check_int("repeats", repeats, 1, 1000)
+    if t_min is not None:
+        check_int("t_min", t_min, 1, 19)
+
+
 def _key(x: float) -> str:
     return f"{x:g}"
 
@@ -39,13 +50,14 @@ def analyze():
 @click.argument("inp", metavar="IN")
 @click.option("--tolerance", default="1,5,10", show_default=True, help="Tolerances in degrees (comma-separated).")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random low bits.")
-@click.option("--repeats", type=int, default=1, show_default=True, help="Dithered samples per level (averaged).")
+@click.option("--repeats", type=int, default=1, show_default=True, help="Dithered samples per level (averaged), 1..1000.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def degradation(inp, tolerance, seed, repeats, as_json):
     """Ch. 3: fit D(t) = C / (1 + e^(-a - b t)) (eq. 3.2.1) to dis(M, M^t) at t = 12, 16, 20, 24, 28
     bits of the IEEE-754 double kept, per weighting, and the level t per tolerance (eq. 3.2.6)."""
     from .. import read_mesh
     from .degradation import WEIGHTINGS, degradation_model
+    _check(seed=seed, repeats=repeats)
     tols = _tolerances(tolerance)
     r = degradation_model(read_mesh(inp), tols, seed=seed, repeats=repeats)
     d = {"input": inp, "seed": seed, "levels_fitted": r["levels_fitted"], "tolerances": tols}
@@ -75,6 +87,7 @@ def quantization(inp, tolerance, bound, adaptive, seed, as_json):
     from .. import read_mesh
     from .quantization import BOUNDS, quantization_table
     _tolerances(str(tolerance))
+    _check(seed=seed)
     mesh = read_mesh(inp)
     bounds = (bound,) if bound else BOUNDS
     t = quantization_table(mesh, (tolerance,), bounds, adaptive=adaptive, seed=seed)
@@ -112,6 +125,7 @@ def quantize(inp, out, tolerance, bound, adaptive, seed, as_json):
     from ..metrics import normal_degradation
     from .quantization import adaptive_levels, quantization_level, quantize as dither
     _tolerances(str(tolerance))
+    _check(seed=seed)
     mesh = read_mesh(inp)
     levels = adaptive_levels(mesh, tolerance) if adaptive else quantization_level(mesh, tolerance, bound)
     q = dither(mesh, levels=levels, seed=seed)
@@ -130,8 +144,8 @@ def quantize(inp, out, tolerance, bound, adaptive, seed, as_json):
 @analyze.command()
 @click.argument("inp", metavar="IN")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the displacements.")
-@click.option("--repeats", type=int, default=1, show_default=True, help="Draws per level (averaged).")
-@click.option("--t-min", type=int, default=12, show_default=True, help="Smallest level of the linear fit.")
+@click.option("--repeats", type=int, default=1, show_default=True, help="Draws per level (averaged), 1..1000.")
+@click.option("--t-min", type=int, default=12, show_default=True, help="Smallest level of the linear fit, 1..19.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def curvature(inp, seed, repeats, t_min, as_json):
     """Ch. 5: mean change of the discrete Gaussian curvature (eq. 5.1.1) of the interior vertices under
@@ -139,6 +153,7 @@ def curvature(inp, seed, repeats, t_min, as_json):
     tangent or a random direction, and the fit log2 kappa_dif = a t + b over t >= t-min (eq. 5.2.4)."""
     from .. import read_mesh
     from .curvature import DIRECTIONS, curvature_model
+    _check(seed=seed, repeats=repeats, t_min=t_min)
     r = curvature_model(read_mesh(inp), seed=seed, repeats=repeats, t_min=t_min)
     d = {"input": inp, "seed": seed, "t": r["t"], "scale": r["scale"], "n_interior": r["n_interior"]}
     lines = [f"{inp}: {r['n_interior']} interior vertices, strength 2^-t x {r['scale']:.6g}, "

@@ -3,11 +3,11 @@
 mesh is read (exit status 2 naming the option); exit 0 marked, 1 not marked."""
 from __future__ import annotations
 
-import json
 import sys
 
 import click
 
+from .. import jsonout
 from .cho import MAX_K_SCAN
 
 
@@ -69,5 +69,5 @@ def add_command(group: click.Group) -> None:
                      f"eq. 6.4.16 {'holds' if d['eq_6_4_16'] else 'fails'}, eq. 6.4.17 "
                      f"{'holds' if d['eq_6_4_17'] else 'fails'}; balance rule {bal} "
                      f"{'holds' if d['balance_test'] else 'fails'}: {'marked' if d['marked_thesis'] else 'clean'}")
-        click.echo(json.dumps(d, indent=2) if as_json else text)
+        click.echo(jsonout.dumps(d) if as_json else text)
         sys.exit(0 if d["marked"] else 1)

@@ -3,17 +3,17 @@ meshmark.cli; ``cho`` lives there). Bad input raises MeshError (exit status 2)."
 from __future__ import annotations
 
 import csv
-import json
 import pathlib
 import sys
 
 import click
 
+from .. import jsonout
 from .._core import MeshError
 
 
 def _emit(d, as_json, text):
-    click.echo(json.dumps(d, indent=2) if as_json else text)
+    click.echo(jsonout.dumps(d) if as_json else text)
 
 
 def _set_option(f):
@@ -74,7 +74,9 @@ def add_commands(group: click.Group) -> None:
         from . import protocol as P
         from .model import Model, corpus_hash
 
+        from ..ranges import check_seed
         check_output_path(out)  # before hours of training (issue 23)
+        check_seed(seed)
         paths = P.mesh_files(covers)
         if not paths:
             raise MeshError(f"empty training corpus: no .obj/.off/.ply/.stl meshes in {', '.join(covers)}")
@@ -146,8 +148,9 @@ def add_commands(group: click.Group) -> None:
     @click.argument("covers", nargs=-1, required=True)
     @_set_option
     @click.option("--classifier", type=click.Choice(["ensemble", "qda"]), default="ensemble", show_default=True)
-    @click.option("--splits", type=int, default=30, show_default=True)
-    @click.option("--test-fraction", type=float, default=0.3, show_default=True)
+    @click.option("--splits", type=int, default=30, show_default=True, help="Random splits, 1..10,000.")
+    @click.option("--test-fraction", type=float, default=0.3, show_default=True,
+                  help="Share of the covers tested per split, (0, 1).")
     @click.option("--methods", default=None, help="Comma-separated stego methods (default: all registered).")
     @click.option("--dataset", type=click.Path(dir_okay=False),
                   help="Cache of the features (.npz): read if present and built for the same covers, methods and sets, else written.")
@@ -163,6 +166,9 @@ def add_commands(group: click.Group) -> None:
         leave one source out), specific and universal detectors, median accuracy / TPR / FPR / P_E."""
         from . import protocol as P
 
+        from ..ranges import check_float, check_int
+        check_int("splits", splits, 1, 10_000)  # before the corpus is read
+        check_float("test_fraction", test_fraction, 0.0, 1.0, low_open=True, high_open=True)
         if dataset:
             check_output_path(dataset)
         paths = P.mesh_files(covers)

@@ -6,7 +6,7 @@
 
 Design notes and measurements: ``docs/stego.md``.
 """
-from .lsb import PRECISIONS, EmbedResult, ExtractResult, capacity, embed, extract, level_function
+from .lsb import NO_MESSAGE, PRECISIONS, TOO_SMALL, EmbedResult, ExtractResult, capacity, embed, extract, level_function
 from . import chao
 
-__all__ = ["PRECISIONS", "EmbedResult", "ExtractResult", "capacity", "embed", "extract", "level_function", "chao"]
+__all__ = ["NO_MESSAGE", "TOO_SMALL", "PRECISIONS", "EmbedResult", "ExtractResult", "capacity", "embed", "extract", "level_function", "chao"]

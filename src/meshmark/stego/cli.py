@@ -1,12 +1,13 @@
 """``meshmark stego embed | extract | capacity`` (thesis §4.3.2). Registered by one line in meshmark.cli."""
 from __future__ import annotations
 
-import json
 import os
 import sys
 import tempfile
 
 import click
+
+from .. import jsonout
 import numpy as np
 
 from .._core import MeshError
@@ -17,7 +18,7 @@ _PRECISION = click.Choice(["fixed32", "float32", "float64"])
 
 def _common(f):
     f = click.option("--tolerance", type=float, default=1.0, show_default=True,
-                     help="Mean normal degradation budget, degrees (eq. 4.3.19).")(f)
+                     help="Mean normal degradation budget, degrees, (0, 180] (eq. 4.3.19).")(f)
     f = click.option("--adaptive", type=_ADAPTIVE, default="triangle", show_default=True,
                      help="Levels: per triangle with eps_j = tolerance (Table 4.4), curvature-dependent "
                           "eps_j (eq. 4.3.24), or one global level (eq. 4.3.21).")(f)
@@ -45,12 +46,21 @@ def _key(key, key_file):
     return key
 
 
+def _check_common(tolerance, level) -> None:
+    """--tolerance in (0, 180] degrees and --level in 0..32, before the mesh is read (exit 2 naming
+    the option)."""
+    from ..ranges import check_float, check_int
+    check_float("tolerance", tolerance, 0.0, 180.0, low_open=True)
+    if level is not None:
+        check_int("level", level, 0, 32)
+
+
 def _adaptive_arg(adaptive: str):
     return {"triangle": True, "curvature": "curvature", "global": False}[adaptive]
 
 
 def _emit(d: dict, as_json: bool, text: str) -> None:
-    click.echo(json.dumps(d, indent=2) if as_json else text)
+    click.echo(jsonout.dumps(d) if as_json else text)
 
 
 def write_verified(path: str, mesh, V: np.ndarray, precision: str, check, source=None) -> None:
@@ -146,6 +156,7 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
             raise MeshError(f"--message-file {message_file}: {exc.strerror}") from None
     else:
         payload = message.encode("utf-8")
+    _check_common(tolerance, level)
     k = _key(key, key_file)
     mesh, fmt = read_mesh(inp, return_info=True)
     kw = dict(tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=precision, levels=level)
@@ -179,6 +190,7 @@ def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_f
     from ..io import read_mesh
     from . import extract
 
+    _check_common(tolerance, level)
     k = _key(key, key_file)
     mesh = read_mesh(inp)
     r = extract(mesh, k, tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=precision, levels=level)
@@ -220,6 +232,7 @@ def capacity_cmd(inp, tolerance, adaptive, level, precision, as_json):
     from ..io import read_mesh
     from . import capacity
 
+    _check_common(tolerance, level)
     mesh = read_mesh(inp)
     precs = ["fixed32", "float32", "float64"] if precision == "all" else [precision]
     rows = [capacity(mesh, tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=p, levels=level)

@@ -11,13 +11,20 @@ guess). The header and the body are two AEAD messages under two nonces (nonce, n
 bit flipped) and both authenticate the associated data ``b"meshmark-stego-1"``. A wrong key, a
 damaged file or a clean mesh fails the header's tag (probability of a false accept 2^-128), so the
 extractor answers "no message", never garbage.
+
+The corrective vector's stream in the LSBs is ``salt (16) | mask(len(e stream) as 4 bytes | deflate(e))``
+(:func:`mask`, AES-CTR under a subkey of the derived key): the extractor reads the salt there, derives
+the key once, and uses it for e and for the header. Without the key the LSBs are random bits.
 """
 from __future__ import annotations
 
+import hashlib
+import hmac
 import os
 import struct
 
 from cryptography.exceptions import InvalidTag
+from cryptography.hazmat.primitives.ciphers import Cipher, algorithms, modes
 from cryptography.hazmat.primitives.ciphers.aead import AESGCM
 from cryptography.hazmat.primitives.kdf.scrypt import Scrypt
 
@@ -63,15 +70,28 @@ def seal(message: bytes, dkey: bytes, salt: bytes, nonce: bytes | None = None) -
 
 def open_header(head: bytes, key) -> tuple[int, bytes] | None:
     """(message length, derived key) from the first HEADER bytes, or None (wrong key / no message)."""
-    if len(head) < HEADER:
-        return None
-    salt, nonce, ct = head[:SALT], head[SALT:SALT + NONCE], head[SALT + NONCE:HEADER]
-    dkey = derive(key, salt)
+    return open_header_with(head, derive(key, bytes(head[:SALT]).ljust(SALT, b"\0")))
+
+
+def open_header_with(head: bytes, dkey: bytes) -> tuple[int, bytes] | None:
+    """open_header with the key already derived (from the salt of the LSB stream, ``lsb.py``)."""
+    short = len(head) < HEADER  # still check: the same work as for a full header
+    head = bytes(head[:HEADER]).ljust(HEADER, b"\0")
+    nonce, ct = head[SALT:SALT + NONCE], head[SALT + NONCE:HEADER]
     try:
         n = struct.unpack(">I", AESGCM(dkey).decrypt(nonce, ct, AAD))[0]
     except InvalidTag:
         return None
-    return n, dkey
+    return None if short else (n, dkey)
+
+
+def mask(dkey: bytes, data: bytes) -> bytes:
+    """AES-256-CTR of ``data`` (counter 0) under HMAC-SHA256(dkey, "meshmark-stego-e"): the corrective
+    vector's stream in the LSBs, so that without the key it is indistinguishable from random bits.
+    Its own involution (mask(k, mask(k, x)) == x); a fresh salt, hence a fresh key, per embedding."""
+    k = hmac.new(dkey, b"meshmark-stego-e", hashlib.sha256).digest()
+    c = Cipher(algorithms.AES(k), modes.CTR(bytes(16))).encryptor()
+    return c.update(bytes(data)) + c.finalize()
 
 
 def open_body(frame: bytes, n: int, dkey: bytes) -> bytes | None:

@@ -19,6 +19,7 @@ quantize at t, pi_1, read the frame, decrypt. Nothing depends on the vertex or f
 """
 from __future__ import annotations
 
+import hmac
 import math
 import os
 import struct
@@ -246,56 +247,73 @@ def capacity(mesh, tolerance: float = 1.0, adaptive=True, precision: str = "fixe
             "level_min": int(np.min(i)), "level_max": int(np.max(i))}
 
 
-def _read_e(Vm, mesh, level_fn, precision, fr):
-    """Recover t (eq. 4.3.27) from a marked carrier, or (None, reason)."""
+NO_MESSAGE = "no message for this key"  # the one answer to a wrong key, a clean mesh and a damaged one
+# A file with fewer than 160 LSB slots cannot hold even the corrective vector's salt and length: no
+# embedding ever wrote one, and anyone can see it from the file, so saying so leaks nothing.
+TOO_SMALL = "mesh too small to carry a message"
+
+
+def _read_e(Vm, mesh, level_fn, precision, fr, key):
+    """Recover t (eq. 4.3.27) from a marked carrier: (t, "", (salt, dkey)) or, when the LSBs hold
+    no corrective vector for this key, (t', reason, (salt, dkey)) with t' the marked mesh's own
+    exponents, so that the caller goes on with the same work whatever the file holds (docs/stego.md,
+    "What an observer learns"). The LSB stream is salt | mask(length | deflate(e)) (``crypto.mask``); dkey is
+    the key derived with that salt, the one derivation of an extraction; the frame repeats the salt."""
     t2, order2, first2, _ = _marked_order(Vm, mesh, level_fn, precision, fr)
     slots = int(_core.stego_lsb_capacity(Vm, precision, *fr, order2, first2))
-    if slots < 32:
-        return None, "too few LSB slots"
-    (ln,) = struct.unpack(">I", _core.stego_read_lsb(Vm, precision, *fr, order2, first2, 32))
-    if 8 * (4 + ln) > slots:
-        return None, "no corrective vector"
-    raw = _core.stego_read_lsb(Vm, precision, *fr, order2, first2, 8 * (4 + ln))[4:]
-    try:
-        e = np.frombuffer(zlib.decompress(raw, wbits=-15), dtype=np.int8)
-    except zlib.error:
-        return None, "no corrective vector"
+    pre = crypto.SALT + 4
+    nb = min(slots // 8, pre)
+    head = _core.stego_read_lsb(Vm, precision, *fr, order2, first2, 8 * nb) if nb else b""
+    head = bytes(head).ljust(pre, b"\0")
+    dkey = crypto.derive(key, head[:crypto.SALT])  # zero-padded for a tiny mesh: the same work
+    (ln,) = struct.unpack(">I", crypto.mask(dkey, head[crypto.SALT:]))
+    fits = slots >= 8 * pre and 8 * (pre + ln) <= slots
+    nbytes = pre + ln if fits else max(pre, slots // 8)  # a length that does not fit: read every slot
+    raw = _core.stego_read_lsb(Vm, precision, *fr, order2, first2, 8 * nbytes) if slots >= 8 * nbytes else head
+    comp = crypto.mask(dkey, raw[crypto.SALT:])[4:]
     groups = np.cumsum(first2, dtype=np.int64) - 1
-    if e.size != int(groups[-1]) + 1:
-        return None, "corrective vector of the wrong length"
+    ngroups = int(groups[-1]) + 1
+    try:  # bounded: a stream that inflates past the group count is no corrective vector either
+        d = zlib.decompressobj(wbits=-15)
+        e = np.frombuffer(d.decompress(comp, ngroups + 1), dtype=np.int8)
+        ok = fits and d.eof
+    except zlib.error:
+        e, ok = np.zeros(0, dtype=np.int8), False
+    salt_key = (head[:crypto.SALT], dkey)
+    if slots < 8 * pre:
+        return t2, TOO_SMALL, salt_key
+    if not ok or e.size != ngroups:
+        return t2, "no corrective vector", salt_key
     t = np.empty_like(t2)
     t[order2] = t2[order2] + e[groups]
     lo, hi = _core.stego_t_range(precision, fr[0])
     if t.min() < lo or t.max() > hi:
-        return None, "levels out of range"
-    return t, ""
+        return t2, "levels out of range", salt_key
+    return t, "", salt_key
 
 
-def _extract_frame_bits(V, mesh, level_fn, precision, fr, nbits_or_key):
-    """The message frame: with an int, that many bits; with a key, header -> length -> frame."""
-    t, reason = _read_e(V, mesh, level_fn, precision, fr)
-    if t is None:
-        return None, reason, None
+def _extract_frame_bits(V, mesh, level_fn, precision, fr, key):
+    """The message (header -> length -> frame), or (None, reason).
+
+    Every mesh takes the same steps (levels, pi_2, the LSB stream, one scrypt derivation, e, layout,
+    header, one AES-GCM check) and every failure before the body gives :data:`NO_MESSAGE`, so that a
+    wrong key cannot tell a stego mesh from a clean one (docs/stego.md)."""
+    t, reason, (salt, dkey) = _read_e(V, mesh, level_fn, precision, fr, key)
     lay = _layout(V, t, precision, fr, mesh)
-    if isinstance(nbits_or_key, int):
-        return _core.stego_read_bits(V, t, precision, *fr, lay.order, lay.first, nbits_or_key), "", lay
-    key = nbits_or_key
-    hbits = 8 * crypto.HEADER
-    if lay.capacity < hbits:
-        return None, "carrier too small", lay
-    head = _core.stego_read_bits(V, t, precision, *fr, lay.order, lay.first, hbits)
-    h = crypto.open_header(head, key)
-    if h is None:
-        return None, "no message for this key", lay
-    n, dkey = h
+    hbits = min(8 * crypto.HEADER, lay.capacity)
+    head = _core.stego_read_bits(V, t, precision, *fr, lay.order, lay.first, hbits) if hbits > 0 else b""
+    h = crypto.open_header_with(head, dkey)  # pads a short header: the check runs in every case
+    if h is None or reason or not hmac.compare_digest(bytes(head[:crypto.SALT]), salt):
+        return None, TOO_SMALL if reason == TOO_SMALL else NO_MESSAGE
+    n = h[0]
     total = 8 * (crypto.HEADER + n + crypto.TAG)
     if total > lay.capacity:
-        return None, "no message for this key", lay
+        return None, NO_MESSAGE
     frame = _core.stego_read_bits(V, t, precision, *fr, lay.order, lay.first, total)
     msg = crypto.open_body(frame, n, dkey)
-    if msg is None:
-        return None, "damaged message", lay
-    return msg, "", lay
+    if msg is None:  # only reachable with the right key (the header authenticated)
+        return None, "damaged message"
+    return msg, ""
 
 
 def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
@@ -339,12 +357,14 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
         if not np.array_equal(lead[groups], e_sorted) or np.abs(lead).max(initial=0) > 127:
             continue  # two marked vertices collided with different e: new nonce, new bits
         comp = _compress_e(lead.astype(np.int8).tobytes())
-        lsb = struct.pack(">I", len(comp)) + comp
+        lsb = salt + crypto.mask(dkey, struct.pack(">I", len(comp)) + comp)  # crypto.py: random without the key
         slots = int(_core.stego_lsb_capacity(V1, precision, *fr, order2, first2))
         if 8 * len(lsb) > slots:
-            raise MeshError(f"the compressed corrective vector ({8 * len(lsb)} bits) does not fit the "
-                            f"{slots} LSB slots")
-        V2 = _core.stego_write_lsb(V1, precision, *fr, order2, first2, lsb, 8 * len(lsb))
+            raise MeshError(f"the compressed corrective vector ({8 * len(lsb)} bits with its salt) does not "
+                            f"fit the {slots} LSB slots")
+        # every LSB slot is written (random after the stream): no boundary between stream and cover bits
+        fill = lsb + os.urandom(slots // 8 - len(lsb) + 1)
+        V2 = _core.stego_write_lsb(V1, precision, *fr, order2, first2, fill, slots)
         # Verify what the extractor relies on: the same frame, e read back from the LSBs in pi_2 order
         # (pi_2 and t' do not depend on the LSBs, and pi_1 is a function of t and the quantized
         # vertices, which the message bits do not touch), and the frame bits read back in pi_1 order.
@@ -372,13 +392,15 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
 def extract(mesh, key, tolerance: float = 1.0, adaptive=True, precision: str = "fixed32",
             levels=None) -> ExtractResult:
     """The message hidden by :func:`embed` with the same key, tolerance, adaptive flag and precision,
-    or ``found=False`` (wrong key, damaged or clean mesh: never garbage)."""
+    or ``found=False`` with reason :data:`NO_MESSAGE` (wrong key, damaged or clean mesh: never
+    garbage, and the same answer for all three; "damaged message" only once the key's header
+    authenticated)."""
     m = _check_mesh(mesh)
     precision = _check_precision(precision)
     kb = crypto.key_bytes(key)
     level_fn = level_function(tolerance, adaptive, levels)
+    # Vertices that are not carrier words of this precision are snapped to them and go through the
+    # same steps: refusing them early would answer a clean mesh differently from a stego one.
     fr, V = _frame(m.V, precision)
-    if not np.array_equal(V, m.V):
-        return ExtractResult(False, None, f"the vertices are not {precision} carrier words")
-    msg, reason, _ = _extract_frame_bits(V, m, level_fn, precision, fr, kb)
+    msg, reason = _extract_frame_bits(V, m, level_fn, precision, fr, kb)
     return ExtractResult(msg is not None, msg, reason)

@@ -1,12 +1,12 @@
 """``meshmark study run|status|plot`` (registered by one line at the end of meshmark/cli.py)."""
 from __future__ import annotations
 
-import json
 import os
 import sys
 
 import click
 
+from .. import jsonout
 from .._core import MeshError
 
 
@@ -32,11 +32,11 @@ def _dask_option(value):
 @click.argument("spec")
 @click.option("--out", "out", required=True, help="Results folder (results/*.parquet, store/, runs.jsonl).")
 @click.option("--workers", type=int, default=None,
-              help="Local worker processes (default: the core count; 0 = run in this process).")
+              help="Local worker processes, 0..1024 (default: the core count; 0 = run in this process).")
 @click.option("--dask", "dask", default=None, help="local:N (a LocalCluster of N workers) or tcp://host:8786.")
 @click.option("--ship-meshes", is_flag=True, help="Send each mesh file's bytes to the workers (no shared path).")
-@click.option("--chunk-size", type=int, default=None, help="Tasks per chunk (one mesh per chunk; default study.chunk_size, 64).")
-@click.option("--retries", type=int, default=1, show_default=True, help="Times a failed task is run again.")
+@click.option("--chunk-size", type=int, default=None, help="Tasks per chunk, 1..1,000,000 (one mesh per chunk; default study.chunk_size, 64).")
+@click.option("--retries", type=int, default=1, show_default=True, help="Times a failed task is run again, 0..100.")
 @click.option("--dry-run", is_flag=True, help="Plan and compute the task keys only; print the counts and timing.")
 @click.option("--progress/--no-progress", default=None, help="Progress bar (default: on a terminal).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
@@ -46,8 +46,12 @@ def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run,
     from .spec import load_spec, plan
     import time
 
-    if workers is not None and workers < 0:
-        raise MeshError(f"--workers must be >= 0, got {workers}")
+    from ..ranges import check_int
+    if workers is not None:
+        check_int("workers", workers, 0, 1024)
+    if chunk_size is not None:
+        check_int("chunk_size", chunk_size, 1, 1_000_000)
+    check_int("retries", retries, 0, 100)
     if workers is not None and dask:
         raise MeshError("give --workers or --dask, not both")
     dask = _dask_option(dask)
@@ -63,14 +67,14 @@ def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run,
                 d["done"] = len(engine.finished_keys(out) & set(keys))
             except Exception:  # noqa: BLE001 - a dry run reports what it can
                 pass
-        click.echo(json.dumps(d, indent=1) if as_json else
+        click.echo(jsonout.dumps(d, indent=1) if as_json else
                    f"{d['tasks']} tasks ({d['meshes']} meshes x {d['methods']} methods x {d['seeds']} seeds x "
                    f"{d['attacks']} attacks), {d['unique_keys']} unique keys, planned in {d['seconds']} s")
         return
     S = engine.run(spec, out, workers=workers, dask=dask, progress=progress, retries=retries,
                    ship_meshes=ship_meshes, chunk_size=chunk_size)
     if as_json:
-        click.echo(json.dumps(S.to_dict(), indent=1))
+        click.echo(jsonout.dumps(S.to_dict(), indent=1))
     else:
         click.echo(f"{S.planned} planned, {S.skipped} already done, {S.ok} ok, {S.mesh_error} mesh errors, "
                    f"{S.failed} failed; {S.wall:.1f} s. Results: {out}/results")
@@ -87,7 +91,7 @@ def status_cmd(out, spec, as_json):
     from . import engine
     d = engine.status(out, spec)
     if as_json:
-        click.echo(json.dumps(d, indent=1))
+        click.echo(jsonout.dumps(d, indent=1))
         return
     lines = [f"{d['rows']} results: " + ", ".join(f"{v} {k}" for k, v in d["by_status"].items())]
     if "planned" in d:
