@@ -45,7 +45,7 @@ bool ear_clip(std::vector<Index> poly, std::vector<Eigen::Vector2d> q, std::vect
   return true;
 }
 
-// Polygons with more corners than this go to ear_clip_polygon (z-order index, about O(k log k));
+// Polygons with more corners than this go to ear_clip_polygon (grid index, about O(k log k));
 // up to it the scan above (O(k^2) to O(k^3)) is kept, so small polygons triangulate as they always did.
 constexpr Index kScanMaxCorners = 64;
 

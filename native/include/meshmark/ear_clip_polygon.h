@@ -1,4 +1,4 @@
-// meshmark: ear clipping of one large planar polygon with a z-order index (typically O(n log n)).
+// meshmark: ear clipping of one large planar polygon with a grid index of its corners (about O(n log n)).
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
@@ -7,7 +7,7 @@
 namespace meshmark {
 
 struct EarClipReport {
-  long long work = 0;        // corner tests made (the unit of work_limit)
+  long long work = 0;        // corner and cell visits (the unit of work_limit)
   int flat_removals = 0;     // stalls resolved by removing collinear/coincident corners
   int cured = 0;             // crossing edge pairs cut off (self-intersecting input)
   int splits = 0;            // stalls resolved by splitting the ring along a diagonal
@@ -18,8 +18,8 @@ struct EarClipReport {
 // triangles of corner positions (0..n-1) to `tri`, each in the polygon's winding; every corner is
 // used. The corners form a doubly linked ring; a corner is clipped when it is convex and no reflex or
 // flat corner lies in its triangle (only those can block an ear of a simple polygon), found through
-// the corners sorted by their Morton (z-order) code, so a test looks only at corners near the ear.
-// The scan goes round the ring, clipping as it goes. When a whole lap finds no ear (rounding,
+// a uniform grid of about one corner per cell: a test visits only the cells its triangle crosses.
+// The scan goes round the ring, clipping as it goes (and skipping the corner after each ear). When a whole lap finds no ear (rounding,
 // degenerate or self-intersecting input): collinear/coincident corners are removed as zero-area
 // triangles, then adjacent crossing edges are cut off, then the ring is split along a diagonal that
 // lies inside it; a ring where none of these applies is finished as a fan, as is everything left
