@@ -1,10 +1,8 @@
-// Writing mesh files, and reading STL, through CGAL's stream support (CGAL/IO). This is the only
-// translation unit that includes CGAL's IO headers. OBJ, OFF and PLY are read by our own bounded
-// parsers (read_mesh.cpp): CGAL's trusted the counts in the file (gigabyte allocations, and a crash
-// on integer PLY coordinates).
+// Writing mesh files through CGAL's stream support (CGAL/IO). Reading is in read_mesh.cpp and the
+// per-format readers (read_obj.cpp, read_off.cpp, read_ply.cpp; read_stl.cpp, the only other
+// translation unit with a CGAL IO header).
 #include "meshmark/error.h"
 #include "meshmark/printable.h"
-#include "meshmark/read_mesh.h"
 #include "meshmark/triangulate.h"
 #include "meshmark/validate.h"
 #include "meshmark/write_mesh.h"
@@ -44,67 +42,6 @@ std::string extension(const std::string& path) {
   return ext;
 }
 
-template <class PointT>
-void fill_mesh(MeshFile& out, const std::vector<PointT>& pts, const std::vector<Polygon>& polys) {
-  out.V.resize(static_cast<Eigen::Index>(pts.size()), 3);
-  for (size_t i = 0; i < pts.size(); ++i) {
-    out.V(i, 0) = pts[i].x();
-    out.V(i, 1) = pts[i].y();
-    out.V(i, 2) = pts[i].z();
-  }
-  size_t corners = 0;
-  for (const auto& p : polys) corners += p.size();
-  out.P.indices.resize(static_cast<Eigen::Index>(corners));
-  out.P.offsets.resize(static_cast<Eigen::Index>(polys.size()) + 1);
-  out.P.offsets[0] = 0;
-  Offset c = 0;
-  for (size_t f = 0; f < polys.size(); ++f) {
-    for (std::size_t v : polys[f]) {
-      // Indices beyond int32 (or wrapped negatives from the readers) are reported by validation.
-      out.P.indices[c++] = v > static_cast<std::size_t>(INT32_MAX) ? -1 : static_cast<Index>(v);
-    }
-    out.P.offsets[static_cast<Eigen::Index>(f) + 1] = c;
-  }
-}
-
-}  // namespace
-
-namespace detail {
-// Binary and ASCII STL through CGAL (called by read_mesh in read_mesh.cpp, which parses OBJ, OFF
-// and PLY itself). The binary triangle count is checked against the file size first.
-void read_stl(const std::string& path, const std::string& shown, long long size, MeshFile& out) {
-  auto fail = [&](const std::string& what) { throw MeshError("cannot read '" + shown + "': " + what); };
-  std::vector<Point> pts;
-  std::vector<Polygon> polys;
-    std::ifstream is(path, std::ios::binary);
-    if (!is) fail("cannot open the file");
-    char head[84] = {0};
-    is.read(head, 84);
-    const bool looks_ascii = std::strncmp(head, "solid", 5) == 0;
-    std::uint32_t n_tri = 0;
-    std::memcpy(&n_tri, head + 80, 4);
-    const bool exact_binary = size >= 84 && size == 84 + 50LL * n_tri;
-    out.binary = !looks_ascii || exact_binary;
-    out.float32 = out.binary;  // ASCII STL stores decimal text, read as double
-    if (out.binary) {
-      if (size < 84) fail("truncated binary STL: " + std::to_string(size) + " bytes, less than the 84-byte header");
-      if (size < 84 + 50LL * n_tri)
-        fail("truncated binary STL: the header declares " + std::to_string(n_tri) + " triangles (" +
-                       std::to_string(84 + 50LL * n_tri) + " bytes) but the file has " + std::to_string(size) + " bytes");
-      if (n_tri == 0) fail("binary STL with no triangles");
-    }
-    is.clear();
-    is.seekg(0);
-    std::vector<std::array<std::size_t, 3>> tris;
-    const bool ok = CGAL::IO::read_STL(is, pts, tris, CGAL::parameters::verbose(false).use_binary_mode(out.binary));
-    if (!ok || tris.empty()) fail(out.binary ? "malformed binary STL" : "malformed ASCII STL (truncated, or a facet without 3 vertices)");
-    polys.reserve(tris.size());
-    for (const auto& t : tris) polys.push_back({t[0], t[1], t[2]});
-    fill_mesh(out, pts, polys);
-}
-}  // namespace detail
-
-namespace {
 bool write_stream(std::ostream& os, const Eigen::Ref<const MatrixX3dR>& V, const Polygons& P, const WriteOptions& options,
                   const std::string& ext, bool binary) {
   int precision = options.precision;

@@ -1,6 +1,8 @@
 #include "meshmark/triangulate.h"
+#include "meshmark/ear_clip_polygon.h"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <vector>
 
 namespace meshmark {
@@ -43,6 +45,25 @@ bool ear_clip(std::vector<Index> poly, std::vector<Eigen::Vector2d> q, std::vect
   return true;
 }
 
+// Polygons with more corners than this go to ear_clip_polygon (grid index, about O(k log k));
+// up to it the scan above (O(k^2) to O(k^3)) is kept, so small polygons triangulate as they always did.
+constexpr Index kScanMaxCorners = 64;
+
+// Strictly convex: every corner turns left and the turns add up to one full turn (not two or more).
+bool strictly_convex(const std::vector<Eigen::Vector2d>& q) {
+  const size_t k = q.size();
+  double turning = 0;
+  for (size_t i = 0; i < k; ++i) {
+    const Eigen::Vector2d& a = q[(i + k - 1) % k];
+    const Eigen::Vector2d& b = q[i];
+    const Eigen::Vector2d& c = q[(i + 1) % k];
+    const double cross = orient(a, b, c);
+    if (!(cross > 0)) return false;
+    turning += std::atan2(cross, (b - a).dot(c - b));
+  }
+  return turning < 3 * M_PI;
+}
+
 }  // namespace
 
 Triangulation triangulate(const Eigen::Ref<const MatrixX3dR>& V, const Polygons& P) {
@@ -58,11 +79,14 @@ Triangulation triangulate(const Eigen::Ref<const MatrixX3dR>& V, const Polygons&
     if (k == 3) {
       tri.insert(tri.end(), {P.indices[b], P.indices[b + 1], P.indices[b + 2]});
     } else {
-      // Newell normal and an orthonormal frame of the polygon's plane.
+      // Newell normal and an orthonormal frame of the polygon's plane. Large polygons are taken
+      // relative to corner 0, so that a far-off polygon keeps its digits in the orientation tests.
+      const bool large = k > kScanMaxCorners;
+      const Eigen::Vector3d origin = large ? Eigen::Vector3d(V.row(P.indices[b]).transpose()) : Eigen::Vector3d::Zero();
       Eigen::Vector3d nrm = Eigen::Vector3d::Zero();
       for (Index j = 0; j < k; ++j) {
-        const Eigen::Vector3d a = V.row(P.indices[b + j]).transpose();
-        const Eigen::Vector3d c = V.row(P.indices[b + (j + 1) % k]).transpose();
+        const Eigen::Vector3d a = V.row(P.indices[b + j]).transpose() - origin;
+        const Eigen::Vector3d c = V.row(P.indices[b + (j + 1) % k]).transpose() - origin;
         nrm += a.cross(c);
       }
       poly.assign(P.indices.data() + b, P.indices.data() + b + k);
@@ -72,11 +96,18 @@ Triangulation triangulate(const Eigen::Ref<const MatrixX3dR>& V, const Polygons&
         Eigen::Vector3d u = nrm.unitOrthogonal(), w = nrm.cross(u);
         q.resize(k);
         for (Index j = 0; j < k; ++j) {
-          const Eigen::Vector3d p = V.row(poly[j]).transpose();
+          const Eigen::Vector3d p = V.row(poly[j]).transpose() - origin;
           q[j] = Eigen::Vector2d(p.dot(u), p.dot(w));
         }
-        done = ear_clip(poly, q, tri);
-        if (!done) tri.resize(before);
+        if (!large) {
+          done = ear_clip(poly, q, tri);
+          if (!done) tri.resize(before);
+        } else if (!strictly_convex(q)) {  // a convex polygon is the fan below, as the scan gives it
+          local.clear();
+          ear_clip_polygon(q, local);
+          for (Index c : local) tri.push_back(poly[c]);
+          done = true;
+        }
       }
       if (!done)  // degenerate polygon: fan from corner 0
         for (Index j = 1; j + 1 < k; ++j) tri.insert(tri.end(), {poly[0], poly[j], poly[j + 1]});
