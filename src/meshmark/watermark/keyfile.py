@@ -2,7 +2,7 @@
 
 It is written by ``embed`` and kept by the owner; the marked mesh can be shared without it. Fields:
 
-``format`` ("meshmark-keyfile"), ``version`` (2), ``method``, ``params`` (the method's parameters
+``format`` ("meshmark-keyfile"), ``version`` (3), ``method``, ``params`` (the method's parameters
 as used), ``weld`` (whether vertices at equal positions were welded before the method ran; extraction
 welds the same way), ``key``, ``payload`` (``kind``, ``n_bits``, ``bits`` as a 0/1 string, ``sha256`` of that
 string), ``coding`` (``scheme``: ``"keyed-aes-ml-v1"``, ``"tbcc9-r14-mac20"`` or ``"tbcc7-r13-mac20"``, with
