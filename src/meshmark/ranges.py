@@ -115,3 +115,8 @@ def check_text(name: str, value: str) -> str:
         shown = value.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
         raise ParameterError(name, f"the {name} is not valid UTF-8: '{shown}'") from None
     return value
+
+
+# The Laplacian carrier names (``laplacian.CARRIERS`` maps each to its native kind; kept here so that
+# the keyfile schema can check a carrier without importing the method).
+LAPLACIAN_CARRIERS = ("thesis", "local", "normal", "cot_local", "cot_normal", "normal_global")

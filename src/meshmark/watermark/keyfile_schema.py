@@ -270,7 +270,7 @@ def _check_params(d: dict, method: str, bad) -> None:
         return
     _table(d, "params", spec, method, bad)
     if method == "laplacian":
-        from .laplacian import CARRIERS
+        CARRIERS = _ranges.LAPLACIAN_CARRIERS
         carrier = p.get("carrier")
         if "carrier" in p and (not isinstance(carrier, str) or carrier not in CARRIERS):
             bad(f"params.carrier must be one of {', '.join(map(repr, CARRIERS))}, got {_short(carrier)}")

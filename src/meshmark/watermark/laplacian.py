@@ -22,6 +22,7 @@ import numpy as np
 
 from .. import _core
 from .._core import MeshError
+from .. import ranges as _ranges
 from ..ranges import check_bool, check_float, check_int
 from ..mesh import Mesh, as_mesh
 from . import framework
@@ -37,6 +38,7 @@ MAX_SOLVE_ROUNDS = 8  # rounds of the iterative reconstruction
 # examples/carrier_skinning.py only: it loses bits to OBJ rounding.) Keyfiles without the field use "thesis".
 CARRIERS = {"thesis": (0, 0.0, True), "local": (1, 0.0, False), "normal": (2, 0.0, False),
             "cot_local": (3, 0.0, False), "cot_normal": (4, 0.0, False), "normal_global": (5, 0.0, True)}
+assert tuple(CARRIERS) == _ranges.LAPLACIAN_CARRIERS  # the names the keyfile schema accepts
 DEFAULT_CARRIER = "local"  # docs/carrier.md: detected on more frames of the Blender rigs
 DEFAULTS = {"K": None, "n_thr": 46, "n_robust": 5, "eps": 1e-5, "thesis_exact": False, "solver": "iterative",
             "carrier": DEFAULT_CARRIER}
