@@ -13,7 +13,7 @@
 * :mod:`~meshmark.watermark.keys` — key-derived permutation and whitening of the carriers;
 * :mod:`~meshmark.watermark.keyfile` — the versioned JSON keyfile that ``extract`` needs;
 * :mod:`~meshmark.watermark.framework` — embed/extract/detect for any method;
-* :mod:`~meshmark.watermark.registry` — the methods by name (:data:`METHODS`), below the keyfile and the
+* :mod:`~meshmark.watermark.methods` — the methods by name (:data:`METHODS`), below the keyfile and the
   framework.
 
 Generic entry points: :func:`embed`, :func:`extract`, :func:`capacity` with ``method=`` one of

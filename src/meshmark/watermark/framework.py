@@ -49,7 +49,7 @@ from . import keys as _keys
 from .keyfile import Keyfile, load_keyfile
 from . import coding as _coding
 from .payload import Payload, decode as _decode_repeat, repeat_to
-from .registry import METHODS, register, method_named as _method  # noqa: F401  (re-exported)
+from .methods import METHODS, register, method_named as _method  # noqa: F401  (re-exported)
 
 DETECTION_THRESHOLD = 1e-6
 MIN_CARRIERS = 8

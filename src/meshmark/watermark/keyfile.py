@@ -95,7 +95,7 @@ class Keyfile:
 def validate_keyfile_dict(d, source: str = "keyfile") -> None:
     """Check a parsed keyfile against the schema (:mod:`.keyfile_schema`) before anything in it is
     used: MeshError naming the field. Does not check the tag (see :func:`verify_keyfile_tag`)."""
-    from .registry import METHODS
+    from .methods import METHODS
     _schema.validate(d, source, METHODS)
 
 

@@ -57,7 +57,7 @@ from . import keys as _keys
 from .framework import DETECTION_THRESHOLD, MAX_ROUNDS, MIN_CARRIERS, _weld, embed_channel
 from .informed import source_digest  # noqa: F401  (tracing.source_digest: part of this module's API)
 from .keyfile import Keyfile
-from .registry import method_named
+from .methods import method_named
 
 SCHEMA_VERSION = "1"
 # params="auto" for copies: the first rung of the ladder with at least 64 carriers (27 certify one
