@@ -30,6 +30,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 import meshmark  # noqa: E402
+from meshmark import MeshError  # noqa: E402
 from meshmark import attacks  # noqa: E402
 from meshmark.attacks import bend  # noqa: E402
 from meshmark.watermark import informed, tracing  # noqa: E402
@@ -157,7 +158,11 @@ def run_mesh(path, mesh, a, rows, drows, other):
                          "evidence": r0["evidence"], "time": 0})
             # wrong keys: full trace for the first, the informed statistic for the rest
             if wrong_keys:
-                rk = tracing.trace(sus, registry=reg, original=mesh, key=wrong_keys[0])
+                try:  # the registry keeps the key's hash: a wrong key is refused before any reading
+                    rk = tracing.trace(sus, registry=reg, original=mesh, key=wrong_keys[0])
+                except MeshError as exc:
+                    assert "wrong key" in str(exc), exc
+                    rk = {"copy": None, "informed": None, "p_false_alarm": 1.0, "evidence": "refused"}
                 rows.append({"mesh": name, "attack": an, "seed": s, "kind": "wrong key", "truth": "",
                              "named": rk["copy"], "z": (rk["informed"] or {}).get("z", np.nan),
                              "p": rk["p_false_alarm"], "evidence": rk["evidence"], "time": 0})

@@ -33,16 +33,17 @@ def test_each_copy_traces_to_itself_and_the_original_to_none(fandisk, tmp_path):
         assert r["copy"] == cid
     r = tracing.trace(fandisk, registry=reg)
     assert (r["detected"], r["copy"]) == (False, None) and r["p_false_alarm"] > 1e-6
-    # the wrong key reads the carriers in another order: nothing named
-    assert tracing.trace(out[0][1], fandisk, registry=reg, key="thief")["copy"] is None
+    # the registry keeps the key's hash: a wrong key is refused, not read as "none"
+    with pytest.raises(MeshError, match="wrong key"):
+        tracing.trace(out[0][1], fandisk, registry=reg, key="thief")
     # a second issue adds copies to the same asset, with its parameters
     more = tracing.issue(fandisk, key="owner", registry=reg, ids=["alice", "bob"])
     assert tracing.trace(more[1][1], fandisk, registry=reg)["copy"] == "bob"
     db = sqlite3.connect(reg)
     assert db.execute("SELECT COUNT(*) FROM copies").fetchone()[0] == 6
     assert db.execute("SELECT COUNT(*) FROM assets").fetchone()[0] == 1
-    assert db.execute("SELECT value FROM meta WHERE name='schema_version'").fetchone()[0] == "1"
-    with pytest.raises(MeshError, match="already used: bob"):
+    assert db.execute("SELECT value FROM meta WHERE name='schema_version'").fetchone()[0] == "2"
+    with pytest.raises(MeshError, match="already used for this asset: bob"):
         tracing.issue(fandisk, key="owner", registry=reg, ids=["bob"])
     with pytest.raises(MeshError, match="another key"):
         tracing.issue(fandisk, key="other", registry=reg, n_copies=1)

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import csv
+import io
 import os
 import sys
 
@@ -11,28 +12,85 @@ from . import jsonout
 from ._core import MeshError
 
 
+MAX_IDS_BYTES = 64 << 20
+
+
 def _read_ids(path: str) -> list:
+    """The ids of an --ids CSV file (first column; '#' comments and an 'id' header skipped), each
+    checked (usable in a file name) with its line named."""
+    from .watermark.registry import MAX_COPIES, check_copy_id, shown
+
     try:
-        with open(path, newline="", encoding="utf-8") as f:
-            rows = [r for r in csv.reader(f) if r and r[0].strip() and not r[0].startswith("#")]
+        with open(path, "rb") as f:
+            raw = f.read(MAX_IDS_BYTES + 1)
     except OSError as exc:
-        raise MeshError(f"cannot read --ids '{path}': {exc.strerror or exc}") from None
-    ids = [r[0].strip() for r in rows]
-    if ids and ids[0].lower() in ("id", "copy", "copy_id"):
-        ids = ids[1:]
-    if not ids:
-        raise MeshError(f"--ids '{path}' lists no ids (one per line, first column)")
-    return ids
+        raise MeshError(f"cannot read --ids '{shown(path)}': {exc.strerror or exc}") from None
+    if len(raw) > MAX_IDS_BYTES:
+        raise MeshError(f"--ids '{shown(path)}' is larger than {MAX_IDS_BYTES >> 20} MB")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[:exc.start].count(b"\n") + 1
+        raise MeshError(f"--ids '{shown(path)}' is not UTF-8 text (byte 0x{raw[exc.start]:02x} on line {line})") from None
+    try:
+        rows = [(i + 1, r) for i, r in enumerate(csv.reader(io.StringIO(text, newline="")))]
+    except csv.Error as exc:
+        raise MeshError(f"--ids '{shown(path)}' is not a CSV file: {exc}") from None
+    rows = [(n, r[0].strip()) for n, r in rows if r and r[0].strip() and not r[0].strip().startswith("#")]
+    if rows and rows[0][1].lower() in ("id", "copy", "copy_id"):
+        rows = rows[1:]
+    if not rows:
+        raise MeshError(f"--ids '{shown(path)}' lists no ids (one per line, first column)")
+    if len(rows) > MAX_COPIES:
+        raise MeshError(f"--ids '{shown(path)}' lists {len(rows):,} ids; one issue makes at most {MAX_COPIES:,} copies")
+    return [check_copy_id(c, f"--ids line {n}: the id") for n, c in rows]
+
+
+class _CopyFiles:
+    """Writes each copy to a temporary file beside ``<stem>-<id><ext>`` (tracing.issue renames it
+    into place once every copy is written, in the registry's transaction)."""
+
+    def __init__(self, outdir, stem, ext, mesh, fmt, force):
+        self.outdir, self.stem, self.ext, self.mesh, self.fmt, self.force = outdir, stem, ext, mesh, fmt, force
+
+    def path(self, cid):
+        return os.path.join(self.outdir, f"{self.stem}-{cid}{self.ext}")
+
+    def check(self, ids):
+        if not self.force:
+            clash = [c for c in ids if os.path.lexists(self.path(c))]
+            if clash:
+                raise MeshError(f"{self.path(clash[0])} exists; pass --force to overwrite (nothing was recorded)")
+
+    def write(self, cid, V):
+        from .atomic import temp_path
+        from .io import mesh_outputs
+
+        files = []
+        try:
+            for final, writer in mesh_outputs(self.path(cid), V, self.mesh, self.fmt):
+                tmp = temp_path(final)
+                files.append((tmp, final))
+                writer(tmp)
+        except BaseException as exc:
+            for tmp, _ in files:
+                if os.path.lexists(tmp):
+                    os.remove(tmp)
+            if isinstance(exc, OSError):
+                raise MeshError(f"cannot write copy {cid} into '{self.outdir}': {exc.strerror or exc}") from None
+            raise
+        return files
 
 
 @click.command()
 @click.argument("inp", metavar="IN")
 @click.argument("outdir", metavar="OUTDIR")
-@click.option("--copies", type=int, default=None, help="Number of copies (ids continue the registry's numbering).")
+@click.option("--copies", type=click.IntRange(1, 100_000), default=None,
+              help="Number of copies, 1..100,000 (ids continue the asset's numbering).")
 @click.option("--ids", "ids_csv", type=click.Path(dir_okay=False), default=None,
               help="CSV file with one copy id per line (first column), instead of --copies.")
 @click.option("--key", required=True, help="The owner's secret key.")
-@click.option("--registry", required=True, type=click.Path(dir_okay=False), help="SQLite registry (created if missing).")
+@click.option("--registry", required=True, help="The registry of copies (an SQLite file, created 0600 if missing).")
 @click.option("--method", type=click.Choice(["laplacian", "cho-mean", "cho-variance", "radial"]), default="laplacian",
               show_default=True)
 @click.option("--params", "params_mode", type=click.Choice(["auto", "thesis"]), default="auto", show_default=True)
@@ -41,30 +99,25 @@ def _read_ids(path: str) -> list:
 def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, force, as_json):
     """Write marked copies of IN into OUTDIR (IN's format), each with its own codeword, and record
     them in the registry."""
-    from .atomic import write_all
-    from .io import mesh_outputs, read_mesh
+    from .io import read_mesh
     from .watermark import tracing
 
     if (copies is None) == (ids_csv is None):
         raise MeshError("give exactly one of --copies N or --ids ids.csv")
     ids = _read_ids(ids_csv) if ids_csv else None
-    mesh, fmt = read_mesh(inp, return_info=True)
-    stem, ext = os.path.splitext(os.path.basename(inp))
-    os.makedirs(outdir, exist_ok=True)
-    if ids is not None and not force:
-        clash = [c for c in ids if os.path.exists(os.path.join(outdir, f"{stem}-{c}{ext}"))]
-        if clash:
-            raise MeshError(f"{os.path.join(outdir, f'{stem}-{clash[0]}{ext}')} exists; pass --force to overwrite")
-    out = tracing.issue(mesh, key=key, registry=registry, n_copies=copies, ids=ids, method=method,
-                        params=params_mode, source_name=os.path.basename(inp), original=inp)
-    paths = {}
-    for cid, V in out:
-        path = os.path.join(outdir, f"{stem}-{cid}{ext}")
-        if os.path.exists(path) and not force:
-            raise MeshError(f"{path} exists; pass --force to overwrite (the copies are recorded in the registry)")
-        write_all(mesh_outputs(path, V, mesh, fmt), what=["copy"] * 2)  # a glTF copy: only its positions differ
-        paths[cid] = path
-    tracing.set_paths(registry, paths)
+    reg = tracing.Registry(registry)  # a foreign or damaged file is refused before any work
+    try:
+        mesh, fmt = read_mesh(inp, return_info=True)
+        stem, ext = os.path.splitext(os.path.basename(inp))
+        sink = _CopyFiles(outdir, stem, ext, mesh, fmt, force)
+        if ids is not None:
+            sink.check(ids)
+        os.makedirs(outdir, exist_ok=True)
+        out = tracing.issue(mesh, key=key, registry=reg, n_copies=copies, ids=ids, method=method,
+                            params=params_mode, source_name=os.path.basename(inp), original=inp, sink=sink)
+    finally:
+        reg.close()
+    paths = dict(out)
     d = {"input": inp, "registry": registry, "copies": [{"id": c, "path": p} for c, p in paths.items()]}
     click.echo(jsonout.dumps(d) if as_json else
                f"issued {len(paths)} copies of {inp} into {outdir} (ids {out[0][0]}..{out[-1][0]}); registry {registry}")
@@ -72,7 +125,7 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
 
 @click.command()
 @click.argument("suspect", metavar="SUSPECT")
-@click.option("--registry", required=True, type=click.Path(dir_okay=False, exists=False), help="SQLite registry.")
+@click.option("--registry", required=True, help="The registry of copies (opened read-only).")
 @click.option("--key", default=None, help="The owner's key (if the registry does not store it).")
 @click.option("--original", default=None, type=click.Path(dir_okay=False),
               help="The unmarked original (default: the path recorded by issue, if its digest still matches).")

@@ -15,19 +15,9 @@ holds for naming a *wrong* copy when the suspect is copy i (the other codewords 
 copy i's). With C carriers read perfectly, ``N 2^-C < 1e-6`` needs C >= 27 for N = 100 (26 carriers
 rank the right copy first among 100 but certify only 100 * 2^-26 = 1.5e-6).
 
-Registry schema (``schema_version`` 1)::
-
-    meta(name TEXT PRIMARY KEY, value TEXT)            -- 'schema_version' = '1'
-    assets(asset_id INTEGER PRIMARY KEY,               -- one row per marked original
-           source_sha256 TEXT UNIQUE NOT NULL,         -- of the welded V (float64) and faces
-           source_name TEXT, setup TEXT NOT NULL,      -- JSON: method, params, choice, weld, key
-                                                       -- (or null), side_info (carriers), mesh
-           n_carriers INTEGER NOT NULL, created TEXT,
-           original_path TEXT,                         -- the original as given to issue (nullable)
-           original_resolved TEXT)                     -- its absolute, symlink-resolved path (nullable)
-    copies(copy_id TEXT PRIMARY KEY, asset_id INTEGER NOT NULL REFERENCES assets(asset_id),
-           codeword BLOB NOT NULL,                     -- C bits, numpy.packbits order
-           path TEXT, created TEXT)
+The registry (:class:`Registry`, :mod:`.registry`: schema, checks, locking) holds one row per
+asset (the original's digest and its setup: method, parameters, carriers, side information, the
+key's hash) and one per copy (its id, unique within the asset, and its codeword).
 
 A second :func:`issue` of the same original into the same registry adds copies to its asset with
 the asset's parameters and side information.
@@ -40,12 +30,9 @@ the two tests are combined by Bonferroni: ``p = min(1, 2 min(p_blind, p_informed
 """
 from __future__ import annotations
 
-import datetime
-import hashlib
-import json
+import hmac
 import os
 import secrets
-import sqlite3
 
 import numpy as np
 
@@ -58,102 +45,12 @@ from .framework import DETECTION_THRESHOLD, MAX_ROUNDS, MIN_CARRIERS, _weld, emb
 from .informed import source_digest  # noqa: F401  (tracing.source_digest: part of this module's API)
 from .keyfile import Keyfile
 from .methods import method_named
+from .registry import MAX_COPIES, SCHEMA_VERSION, WAIT, Registry, check_copy_id, key_hash  # noqa: F401
 
-SCHEMA_VERSION = "1"
 # params="auto" for copies: the first rung of the ladder with at least 64 carriers (27 certify one
 # copy among 100 only when every bit reads right; 64 still certify it with 10 of the 64 bits wrong
 # among 100 copies, 7 among 10,000)
 TRACE_CARRIERS = 64
-
-_SCHEMA = """
-CREATE TABLE IF NOT EXISTS meta(name TEXT PRIMARY KEY, value TEXT);
-CREATE TABLE IF NOT EXISTS assets(asset_id INTEGER PRIMARY KEY, source_sha256 TEXT UNIQUE NOT NULL, source_name TEXT,
-    setup TEXT NOT NULL, n_carriers INTEGER NOT NULL, created TEXT);
-CREATE TABLE IF NOT EXISTS copies(copy_id TEXT PRIMARY KEY, asset_id INTEGER NOT NULL REFERENCES assets(asset_id),
-    codeword BLOB NOT NULL, path TEXT, created TEXT);
-CREATE INDEX IF NOT EXISTS copies_asset ON copies(asset_id);
-"""
-_ASSET_COLUMNS = (("original_path", "TEXT"), ("original_resolved", "TEXT"))  # added by informed tracing
-
-
-def _now() -> str:
-    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
-
-
-class Registry:
-    """The SQLite registry of issued copies (see the module doc for the schema)."""
-
-    def __init__(self, path, create: bool = True):
-        self.path = os.fspath(path)
-        if not create and not os.path.isfile(self.path):
-            raise MeshError(f"registry '{self.path}' does not exist")
-        try:
-            self.db = sqlite3.connect(self.path)
-            self.db.executescript(_SCHEMA)
-            row = self.db.execute("SELECT value FROM meta WHERE name = 'schema_version'").fetchone()
-            if row is None:
-                self.db.execute("INSERT INTO meta VALUES ('schema_version', ?)", (SCHEMA_VERSION,))
-                self.db.commit()
-            elif row[0] != SCHEMA_VERSION:
-                raise MeshError(f"registry '{self.path}' has schema version {row[0]}, this meshmark reads {SCHEMA_VERSION}")
-            self._columns = {r[1] for r in self.db.execute("PRAGMA table_info(assets)")}
-        except sqlite3.DatabaseError as exc:
-            raise MeshError(f"'{self.path}' is not a meshmark registry ({exc})") from None
-
-    def close(self):
-        self.db.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-
-    def asset(self, sha: str):
-        row = self.db.execute("SELECT asset_id, setup FROM assets WHERE source_sha256 = ?", (sha,)).fetchone()
-        return None if row is None else (row[0], json.loads(row[1]))
-
-    def add_asset(self, sha: str, name: str, setup: dict, n: int) -> int:
-        cur = self.db.execute("INSERT INTO assets(source_sha256, source_name, setup, n_carriers, created) "
-                              "VALUES (?, ?, ?, ?, ?)", (sha, name, json.dumps(setup), n, _now()))
-        return int(cur.lastrowid)
-
-    def _add_columns(self):
-        for name, kind in _ASSET_COLUMNS:  # additive: registries written before informed tracing
-            if name not in self._columns:
-                self.db.execute(f"ALTER TABLE assets ADD COLUMN {name} {kind}")
-                self._columns.add(name)
-
-    def set_original(self, asset_id: int, path: str) -> None:
-        """Record where the asset's original is (as given, and resolved)."""
-        self._add_columns()
-        self.db.execute("UPDATE assets SET original_path = ?, original_resolved = ? WHERE asset_id = ?",
-                        (str(path), os.path.realpath(path), asset_id))
-
-    def original(self, asset_id: int):
-        """(path as given, resolved path, source_sha256) of an asset; paths None when not recorded."""
-        cols = "original_path, original_resolved" if "original_path" in self._columns else "NULL, NULL"
-        row = self.db.execute(f"SELECT {cols}, source_sha256 FROM assets WHERE asset_id = ?", (asset_id,)).fetchone()
-        return (None, None, None) if row is None else tuple(row)
-
-    def copy_ids(self) -> set:
-        return {r[0] for r in self.db.execute("SELECT copy_id FROM copies")}
-
-    def n_copies(self) -> int:
-        return int(self.db.execute("SELECT COUNT(*) FROM copies").fetchone()[0])
-
-    def assets(self):
-        return [(r[0], json.loads(r[1]), r[2]) for r in self.db.execute("SELECT asset_id, setup, n_carriers FROM assets")]
-
-    def codewords(self, asset_id: int, n: int):
-        """(copy ids, (N, n) uint8 codewords) of an asset."""
-        rows = self.db.execute("SELECT copy_id, codeword FROM copies WHERE asset_id = ? ORDER BY rowid",
-                               (asset_id,)).fetchall()
-        if not rows:
-            return [], np.zeros((0, n), np.uint8)
-        nb = (n + 7) // 8
-        packed = np.frombuffer(b"".join(r[1] for r in rows), np.uint8).reshape(len(rows), nb)
-        return [r[0] for r in rows], np.unpackbits(packed, axis=1)[:, :n]
 
 
 def _setup_keyfile(setup: dict, key: str) -> Keyfile:
@@ -163,13 +60,45 @@ def _setup_keyfile(setup: dict, key: str) -> Keyfile:
                    side_info=setup["side_info"], mesh=setup["mesh"], choice=setup.get("choice"))
 
 
+def _plan_ids(n_copies, ids) -> list | None:
+    """The ids asked for, checked before any work (None: numbered under the registry's lock)."""
+    if (n_copies is None) == (ids is None):
+        raise MeshError("give either the number of copies or their ids")
+    if ids is None:
+        if isinstance(n_copies, bool) or not isinstance(n_copies, (int, np.integer)) or not 1 <= n_copies <= MAX_COPIES:
+            raise MeshError(f"the number of copies must be an integer in 1..{MAX_COPIES:,}, got {n_copies!r}")
+        return None
+    ids = [check_copy_id(c, f"copy id {i + 1}") for i, c in enumerate(ids)]
+    if not ids:
+        raise MeshError("copy ids must be non-empty")
+    if len(ids) > MAX_COPIES:
+        raise MeshError(f"{len(ids):,} copy ids given; one issue makes at most {MAX_COPIES:,} copies")
+    seen, dup = set(), []
+    for c in ids:
+        (dup.append(c) if c in seen else seen.add(c))
+    if dup:
+        raise MeshError(f"copy id(s) listed twice: {', '.join(sorted(set(dup))[:5])}")
+    return ids
+
+
 def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: str = "laplacian", params="auto",
           weld: bool = True, store_key: bool = True, source_name: str = "", progress=None, original=None,
-          informed: bool = True, **method_params):
+          informed: bool = True, sink=None, wait: float = WAIT, **method_params):
     """Mark copies of the mesh, each with its own random codeword; record them in ``registry`` (a
-    path or :class:`Registry`). Give ``n_copies`` (ids continue the registry's numbering: ``0001``, ...)
-    or ``ids`` (strings, unique in the registry). Returns a list of ``(copy_id, V)`` with V the
-    marked vertices (input order). Nothing is recorded unless every copy is marked.
+    path or :class:`Registry`). Give ``n_copies`` (1..MAX_COPIES; numbered after the asset's largest numeric id:
+    ``0001``, ...) or ``ids`` (strings usable in a file name, unique within the asset; the same id
+    may be used by another asset). Returns a list of ``(copy_id, V)`` with V the marked vertices
+    (input order), or with ``sink`` a list of ``(copy_id, path)``.
+
+    The whole issue is one write transaction of the registry (``BEGIN IMMEDIATE``): a second issue
+    into the same registry waits up to ``wait`` seconds and then numbers its copies after this one's.
+    Nothing is recorded unless every copy is marked (and, with ``sink``, written).
+
+    ``sink``: streams the copies to disk: ``sink.check(ids)`` (optional) is called once the ids are
+    known, before any marking, and ``sink.write(copy_id, V)`` writes one copy to temporary files and
+    returns ``[(temporary, final path), ...]`` (the first final path is recorded). After the last copy
+    the rows are inserted, the temporaries renamed onto their paths and the transaction committed;
+    on any failure the transaction is rolled back and every file written is removed.
 
     ``informed`` (default on, for a new asset): each copy also carries its keyed low-pass pattern
     (:mod:`.informed`); ``original``: the path of the original file, recorded so that :func:`trace`
@@ -178,32 +107,29 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
     mesh_in = as_mesh(V, F)
     key = _keys.check_key(key)
     m = method_named(method)
-    reg = registry if isinstance(registry, Registry) else Registry(registry)
+    ids = _plan_ids(n_copies, ids)
+    w = _weld(mesh_in, weld)
+    mesh = w.mesh if w is not None else mesh_in
+    sha = source_digest(mesh)
+    own = not isinstance(registry, Registry)
+    reg = Registry(registry) if own else registry
+    staged, placed = [], []
     try:
-        existing = reg.copy_ids()
-        if (n_copies is None) == (ids is None):
-            raise MeshError("give either the number of copies or their ids")
-        if ids is None:
-            if not isinstance(n_copies, (int, np.integer)) or n_copies < 1:
-                raise MeshError(f"the number of copies must be a positive integer, got {n_copies!r}")
-            start = reg.n_copies() + 1
-            ids = []
-            i = start
-            while len(ids) < n_copies:
-                cid = f"{i:04d}"
-                if cid not in existing:
-                    ids.append(cid)
-                i += 1
-        ids = [str(c).strip() for c in ids]
-        if not ids or any(not c for c in ids):
-            raise MeshError("copy ids must be non-empty")
-        dup = sorted({c for c in ids if ids.count(c) > 1} | (set(ids) & existing))
-        if dup:
-            raise MeshError(f"copy id(s) already used: {', '.join(dup[:5])}")
-        w = _weld(mesh_in, weld)
-        mesh = w.mesh if w is not None else mesh_in
-        sha = source_digest(mesh)
+        reg.begin(wait)
         found = reg.asset(sha)
+        existing = reg.copy_ids(found[0]) if found is not None else set()
+        if ids is None:
+            i = 1 + max((int(c) for c in existing if c.isascii() and c.isdigit()), default=0)
+            ids = []
+            while len(ids) < n_copies:
+                if f"{i:04d}" not in existing:
+                    ids.append(f"{i:04d}")
+                i += 1
+        dup = sorted(set(ids) & existing)
+        if dup:
+            raise MeshError(f"copy id(s) already used for this asset: {', '.join(dup[:5])}")
+        if sink is not None and hasattr(sink, "check"):
+            sink.check(ids)
         if found is None:
             from .auto import choose
             p, cids, side, choice = choose(mesh, m, params, method_params, None, need=TRACE_CARRIERS)
@@ -214,7 +140,7 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
             asset_id, setup = found
             if setup["method"] != method:
                 raise MeshError(f"the registry holds this mesh with the {setup['method']} method, not {method}")
-            if setup.get("key_sha256") != hashlib.sha256(key.encode()).hexdigest():
+            if not hmac.compare_digest(setup["key_sha256"], key_hash(key)):
                 raise MeshError("the registry holds this mesh under another key")
             p, choice = setup["params"], setup.get("choice")
             inf_params = setup.get("informed")
@@ -256,11 +182,19 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
             if bad.size:
                 raise MeshError(f"copy {cid}: {bad.size} of {C} carrier bits do not read back with the shared side "
                                 "information; nothing was recorded")
-            out.append((cid, w.scatter(Vm) if w is not None else Vm))
-            rows.append((cid, np.packbits(cw).tobytes()))
+            Vout = w.scatter(Vm) if w is not None else Vm
+            path = None
+            if sink is not None:
+                files = list(sink.write(cid, Vout))
+                staged.extend(files)
+                path = files[0][1] if files else None
+                out.append((cid, path))
+            else:
+                out.append((cid, Vout))
+            rows.append((cid, np.packbits(cw).tobytes(), path))
         if asset_id is None:
             setup = {"method": method, "params": p, "choice": choice, "weld": bool(weld),
-                     "key": key if store_key else None, "key_sha256": hashlib.sha256(key.encode()).hexdigest(),
+                     "key": key if store_key else None, "key_sha256": key_hash(key),
                      "side_info": {**trace_side, "carriers": [int(c) for c in cids]},
                      "mesh": {"n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces}}
             if inf_params:
@@ -268,28 +202,47 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
             asset_id = reg.add_asset(sha, source_name, setup, C)
         if original is not None:
             reg.set_original(asset_id, os.fspath(original))
-        now = _now()
-        reg.db.executemany("INSERT INTO copies(copy_id, asset_id, codeword, path, created) VALUES (?, ?, ?, NULL, ?)",
-                           [(cid, asset_id, blob, now) for cid, blob in rows])
-        reg.db.commit()
+        reg.add_copies(asset_id, rows)
+        for tmp, final in staged:
+            existed = os.path.lexists(final)
+            try:
+                os.replace(tmp, final)
+            except OSError as exc:
+                raise MeshError(f"cannot write '{final}': {exc.strerror or exc}") from None
+            placed.append((final, existed))
+        reg.commit()
+        placed = []
         report(1.0, "done")
         return out
     except BaseException:
-        reg.db.rollback()
+        reg.rollback()
+        for final, existed in placed:
+            if not existed and os.path.lexists(final):
+                os.remove(final)
         raise
     finally:
-        if not isinstance(registry, Registry):
+        for tmp, _ in staged:
+            if os.path.lexists(tmp):
+                os.remove(tmp)
+        if own:
             reg.close()
 
 
-def set_paths(registry, paths: dict) -> None:
-    """Record where copies were written (copy id -> path)."""
-    reg = registry if isinstance(registry, Registry) else Registry(registry, create=False)
+def set_paths(registry, paths: dict, asset_id: int | None = None) -> None:
+    """Record where copies were written (copy id -> path; without ``asset_id``: the copy of that id
+    issued last)."""
+    own = not isinstance(registry, Registry)
+    reg = Registry(registry, create=False, readonly=False) if own else registry
     try:
-        reg.db.executemany("UPDATE copies SET path = ? WHERE copy_id = ?", [(p, c) for c, p in paths.items()])
-        reg.db.commit()
+        reg.begin()
+        try:
+            reg.set_paths(paths, asset_id)
+        except BaseException:
+            reg.rollback()
+            raise
+        reg.commit()
     finally:
-        if not isinstance(registry, Registry):
+        if own:
             reg.close()
 
 
@@ -313,13 +266,19 @@ def trace(V, F=None, *, registry, key=None, original=None) -> dict:
     reg = registry if isinstance(registry, Registry) else Registry(registry, create=False)
     try:
         assets = reg.assets()
-        n_total = reg.n_copies()
+        if key is not None:  # the assets issued under this key (the registry keeps each key's hash)
+            key = _keys.check_key(key)
+            h = key_hash(key)
+            mine = [a for a in assets if hmac.compare_digest(a[1]["key_sha256"], h)]
+            if assets and not mine:
+                raise MeshError("wrong key: no asset in the registry was issued under this key")
+            assets = mine
+        elif any(a[1].get("key") is None for a in assets):
+            raise MeshError("the registry does not store the key: give --key")
+        n_total = sum(reg.n_copies(a[0]) for a in assets)
         best, best_inf, originals = None, None, []
         for asset_id, setup, C in assets:
-            k = key if key is not None else setup.get("key")
-            if k is None:
-                raise MeshError("the registry does not store the key: give --key")
-            k = _keys.check_key(k)
+            k = key if key is not None else setup["key"]
             from .framework import _prepare, read_soft
             kf = _setup_keyfile(setup, k)
             mesh, _, _, _ = _prepare(mesh0, kf)
