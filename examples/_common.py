@@ -15,3 +15,16 @@ def write_csv(rows: list, path) -> pathlib.Path:
         w.writeheader()
         w.writerows(rows)
     return out
+
+
+def quick_spec(path, meshes=None, seeds=(0,)):
+    """The study spec at ``path`` in an example's quick mode: the same methods and attacks on ``meshes``
+    (spec paths, relative to the spec's folder; default: the spec's own) and ``seeds``."""
+    import tomllib
+    from meshmark.study import load_spec
+    path = pathlib.Path(path)
+    raw = tomllib.loads(path.read_text())
+    if meshes is not None:
+        raw["meshes"]["paths"] = list(meshes)
+    raw["study"]["seeds"] = list(seeds)
+    return load_spec(raw, base=path.parent)

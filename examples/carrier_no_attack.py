@@ -1,10 +1,12 @@
 """Every Laplacian carrier (docs/carrier.md) on the classic meshes, no attack and the lossless
-attacks: embed a message with thesis defaults and the carrier, read it back exactly after float32,
+attacks: embed a message with the automatic parameters and the carrier, read it back exactly after float32,
 OBJ at 6 decimals, rotation + translation, x0.001, x1000, a vertex/face permutation and all together
 (the variants of examples/laplacian_no_attack.py). Also the smallest relative margin |c1 - c2| / f of
 the carrier pairs on the marked mesh (the embedding must give every pair its eq. 7.2.16 margin).
 
-    .venv/bin/python examples/carrier_no_attack.py [--out build/carrier/no_attack.csv]
+    .venv/bin/python examples/carrier_no_attack.py [--out build/carrier/no_attack.csv] [--carriers C,..] [--quick]
+
+Parameters: the automatic ones (``params="auto"``) with each ``carrier=``; key "no-attack". ``--quick``: the Fandisk only.
 """
 import argparse
 import pathlib
@@ -36,9 +38,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="build/carrier/no_attack.csv")
     ap.add_argument("--carriers", default=",".join(lap.CARRIERS))
+    ap.add_argument("--quick", action="store_true", help="the Fandisk only (the test suite runs it)")
     a = ap.parse_args()
     rows = []
-    for name in MESHES:
+    for name in (["fandisk.obj"] if a.quick else MESHES):
         m = meshmark.read_mesh(SHARED / "classic" / name)
         for c in a.carriers.split(","):
             cap = lap.capacity(m, carrier=c)

@@ -4,7 +4,7 @@ LTE code, soft Viterbi: ``tbcc7``) and today's default (the keyed random code up
 rate-1/4 convolutional code with the same check above: ``default``), through the framework's own coding
 functions, whitening and key permutation.
 
-    .venv/bin/python examples/coding_curve.py [--frames 10000] [--out examples/out/coding_curve]
+    .venv/bin/python examples/coding_curve.py [--frames 10000] [--out examples/out/coding_curve] [--quick]
 
 Channels (applied to the carriers in carrier order, before the key's permutation is undone):
 
@@ -149,7 +149,10 @@ def main(argv=None):
     ap.add_argument("--bers", default="", help="subset of the bit-error rates, e.g. 0.1")
     ap.add_argument("--configs", default="", help="subset of the configurations, e.g. 24:138,64:318 (k:C)")
     ap.add_argument("--out", default=os.path.join(HERE, "out", "coding_curve"))
+    ap.add_argument("--quick", action="store_true", help="300 frames, k=16 on C=108, p = 0.05 and 0.10, uniform (tested)")
     a = ap.parse_args(argv)
+    if a.quick:
+        a.frames, a.channels, a.configs, a.bers = 300, "uniform", a.configs or "16:108", a.bers or "0.05,0.10"
     if a.plot:
         import csv
         rows = [r for p in a.plot for r in csv.DictReader(open(p))]

@@ -4,7 +4,9 @@ uniform hard flips (docs/coding.md, "One candidate per attempt"). ML is a measur
 could carry, not a decoder that is used: its wrong-message probability cannot be bounded for every
 noise.
 
-    .venv/bin/python examples/coding_frame_ml.py [--frames 10000] [--p 0.10]
+    .venv/bin/python examples/coding_frame_ml.py [--frames 10000] [--p 0.10] [--quick]
+
+Parameters: k = 16 data bits, C = 108 carriers, key "ml-frame", the default code (coding.encode). ``--quick``: 250 frames.
 
 Ties for the best correlation count as a fraction (1 / number tied) in the second figure.
 """
@@ -24,7 +26,10 @@ def main():
     ap.add_argument("--frames", type=int, default=10_000)
     ap.add_argument("--p", type=float, default=0.10)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--quick", action="store_true", help="250 frames (the test suite runs it)")
     a = ap.parse_args()
+    if a.quick:
+        a.frames = 250
     t0 = time.time()
     words = ((np.arange(2 ** K_DATA)[:, None] >> np.arange(K_DATA)[::-1]) & 1).astype(np.uint8)
     book = np.empty((words.shape[0], C), np.float32)  # the 2^16 frames' code words, +-1

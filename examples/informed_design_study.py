@@ -1,6 +1,8 @@
 """Choosing informed tracing's pattern: designs compared at equal vertex RMSE on a few meshes.
 
-    .venv/bin/python examples/informed_design_study.py [--meshes bunny,cat-low] [--out examples/out/informed]
+    .venv/bin/python examples/informed_design_study.py [--meshes bunny,cat-low] [--out examples/out/informed] [--quick]
+
+``--quick``: the cat (low resolution), the default design and eigen K = 40, three attacks.
 
 Designs (docs/tracing.md, "Choosing the pattern"):
 * ``lowpass k=K modes=M``: meshmark's default family, ``H w`` with ``H = (A^-1 M)^k M^-1/2``,
@@ -33,6 +35,8 @@ from informed_tracing import ATTACKS, test_set  # noqa: E402
 
 STUDY_ATTACKS = ("noise 0.25 %", "smooth x30", "quantize 8", "simplify 25 %", "crop 30 %", "loop subdivision",
                  "isotropic remesh", "chain")
+QUICK_ATTACKS = ("noise 0.25 %", "smooth x30", "crop 30 %")
+ATTACK_LIST = list(STUDY_ATTACKS)  # --quick: QUICK_ATTACKS
 
 
 class EigenOperator:
@@ -88,7 +92,7 @@ def run(mesh, name, design, rows):
     P = orig.patterns(seeds)
     nd = [float(metrics.normal_degradation(orig.V, orig.marked(P[:, j]), mesh, degrees=True)) for j in range(3)]
     row = {"mesh": name, "design": label, "build_s": round(t_build, 2), "normal_deg": round(float(np.mean(nd)), 3)}
-    for an in STUDY_ATTACKS:
+    for an in ATTACK_LIST:
         zs = []
         for j in range(3):
             sus = ATTACKS[an](mesh.with_vertices(orig.marked(P[:, j])), j)
@@ -103,9 +107,13 @@ def main(argv=None):
     ap.add_argument("--meshes", default="cat-low")
     ap.add_argument("--eigen", type=int, default=200)
     ap.add_argument("--out", default=os.path.join(HERE, "out", "informed"))
+    ap.add_argument("--quick", action="store_true", help="the default design and eigen K=40, 3 attacks (tested)")
     a = ap.parse_args(argv)
     designs = [("lowpass", (2, 240)), ("lowpass", (1, 240)), ("lowpass", (2, 120)), ("lowpass", (2, 480)),
                ("eigen", a.eigen)]
+    if a.quick:
+        designs = [("lowpass", (2, 240)), ("eigen", 40)]
+        ATTACK_LIST[:] = QUICK_ATTACKS
     rows = []
     for path, mesh in test_set(a.meshes.split(",")):
         for d in designs:

@@ -3,7 +3,7 @@ through the add-on's pipeline API; every frame of every action verified; 100 cop
 leaked copy traced on every frame.
 
     .venv/bin/python examples/knight_parts.py [--part detect|trace|all] [--step 1] [--key knight]
-        [--copies 100] [--leaks 0037] [--out build/blender-results]
+        [--copies 100] [--leaks 0037] [--out build/blender-results] [--actions N] [--quick]
 
 Runs with the bpy module (Blender's own glTF importer reads ../shared/meshes/rigged/Knight.glb).
 ``detect``: ``api.embed(parts, message=...)`` (automatic parameters, as Embed), then
@@ -24,14 +24,15 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, ROOT)
 sys.path.insert(0, os.path.join(ROOT, "addon"))
+SHARED = os.path.join(os.path.dirname(ROOT), "shared", "meshes")
 
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
 import meshmark  # noqa: E402
-from blender_tests import rigs  # noqa: E402
+
+N_ACTIONS = 0  # --actions: the first N actions only (0: all)
 
 
 def knight(folder):
@@ -40,7 +41,7 @@ def knight(folder):
     import meshmark_blender
     if not hasattr(bpy.types.Scene, "meshmark"):
         meshmark_blender.register()
-    bpy.ops.import_scene.gltf(filepath=rigs.shared_mesh("rigged/Knight.glb"))
+    bpy.ops.import_scene.gltf(filepath=os.path.join(SHARED, "rigged", "Knight.glb"))
     bpy.ops.wm.save_as_mainfile(filepath=os.path.join(folder, "knight.blend"))
     parts = sorted((o for o in bpy.data.objects if o.type == "MESH" and any(m.type == "ARMATURE" for m in o.modifiers)),
                    key=lambda o: o.name)
@@ -49,7 +50,14 @@ def knight(folder):
 
 
 def actions():
-    return [a for a in bpy.data.actions if a.name]
+    acts = sorted((a for a in bpy.data.actions if a.name), key=lambda a: a.name)
+    return acts[:N_ACTIONS] if N_ACTIONS else acts
+
+
+def base_coords(obj) -> np.ndarray:
+    co = np.empty(3 * len(obj.data.vertices), np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3)
 
 
 def frames_of(act, step):
@@ -87,7 +95,7 @@ def trace(args, folder):
     t0 = time.perf_counter()
     made = api.issue(parts, copies=args.copies, key=args.key, registry="//copies.sqlite", output_dir="//copies")
     paths = {c["id"]: c["path"] for c in made.copies}
-    rest = {o.name: rigs.base_coords(o).copy() for o in parts}
+    rest = {o.name: base_coords(o).copy() for o in parts}
     sizes = np.cumsum([0] + [len(o.data.vertices) for o in parts])
     out = {"copies": len(paths), "issue_seconds": time.perf_counter() - t0, "leaks": {}}
     for leak in args.leaks:
@@ -124,7 +132,13 @@ def main(argv=None):
     ap.add_argument("--copies", type=int, default=100)
     ap.add_argument("--leaks", nargs="+", default=["0037"])
     ap.add_argument("--out", default=os.path.join(ROOT, "build", "blender-results"))
+    ap.add_argument("--actions", type=int, default=0, help="the first N actions by name only (0: all)")
+    ap.add_argument("--quick", action="store_true", help="2 actions, every 4th frame, 5 copies, leak 0003 (tested)")
     args = ap.parse_args(argv)
+    if args.quick:
+        args.actions, args.step, args.copies, args.leaks = args.actions or 2, 4, 5, ["0003"]
+    global N_ACTIONS
+    N_ACTIONS = args.actions
     os.makedirs(args.out, exist_ok=True)
     res = {}
     with tempfile.TemporaryDirectory() as folder:

@@ -9,7 +9,10 @@ owner's mark is still detected (P(false alarm) < 1e-6), its bit agreement (CDR),
 still decodes, and the distortion of each embedding (vertex RMSE / bounding-box diagonal), so the
 attacker's cost can be compared with the owner's.
 
-    .venv/bin/python examples/overmarking.py [--out out/overmarking.csv] [--attackers 3]
+    .venv/bin/python examples/overmarking.py [--out out/overmarking.csv] [--attackers 3] [--quick]
+
+Parameters: each method's automatic ones (``params="auto"``), keys "owner-key-A" / "attacker-key-N".
+``--quick``: the Hand only, one attacker.
         [--owner-key-bins] [--attacker-key-bins]     # key-dependent bin placement (docs/security.md §5)
 """
 import argparse
@@ -77,8 +80,10 @@ def main():
     ap.add_argument("--attackers", type=int, default=3)
     ap.add_argument("--owner-key-bins", action="store_true", help="the owner embeds with key_bins=True")
     ap.add_argument("--attacker-key-bins", action="store_true", help="the attackers embed with key_bins=True")
+    ap.add_argument("--quick", action="store_true", help="the Hand only, one attacker (the test suite runs it)")
     a = ap.parse_args()
-    rows = run(attackers=a.attackers, owner_key_bins=a.owner_key_bins, attacker_key_bins=a.attacker_key_bins)
+    rows = run(meshes=["classic/hand.obj"] if a.quick else MESHES, attackers=1 if a.quick else a.attackers,
+               owner_key_bins=a.owner_key_bins, attacker_key_bins=a.attacker_key_bins)
     ok = [r for r in rows if not r.get("error")]
     survived = sum(r["owner_detected_after"] for r in ok)
     cases = {(r["mesh"], r["method"]) for r in ok}

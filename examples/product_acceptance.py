@@ -1,6 +1,9 @@
 """Acceptance measurements of issue 10 (automatic parameters, coding, tracing) on the shared meshes.
 
-    .venv/bin/python examples/product_acceptance.py [--part fit|false|trace|all] [--out examples/out/product]
+    .venv/bin/python examples/product_acceptance.py [--part fit|false|trace|all] [--out examples/out/product] [--quick]
+
+Parameters: the automatic ones (``params="auto"``, the API and CLI default) everywhere.
+``--quick``: the Fandisk and the Elephant only, 50 wrong keys, 2 keyfiles per mesh, 20 copies (5 traced).
 
 * ``fit``: every classic and corpus mesh; on those of >= 5,000 welded vertices a random 16-bit payload
   is embedded with the default settings (``params="auto"``) and extracted after a random rotation,
@@ -31,8 +34,16 @@ from meshmark.watermark.payload import Payload  # noqa: E402
 
 from _common import SHARED, MESH_SUFFIXES, write_csv  # noqa: E402
 
+# The counts of the full run; --quick (the test suite) uses QUICK: the Fandisk and the Elephant, fewer trials.
+FULL = {"meshes": None, "wrong_keys": 1000, "keyfiles": 20, "copies": 1000, "traced": 50}
+QUICK = {"meshes": ["classic/fandisk.obj", "classic/elephant.off"], "wrong_keys": 50, "keyfiles": 2, "copies": 20,
+         "traced": 5}
+N = dict(FULL)
+
 
 def shared_meshes():
+    if N["meshes"]:
+        return [SHARED / rel for rel in N["meshes"]]
     out = []
     for sub in ("classic", "corpus"):
         for p in sorted((SHARED / sub).iterdir()):
@@ -105,21 +116,21 @@ def part_fit(out):
 def part_false(out):
     rows = []
     rng = np.random.default_rng(11)
-    for name in ("classic/bunny.obj", "classic/fandisk.obj", "classic/elephant.off"):
+    for name in N["meshes"] or ("classic/bunny.obj", "classic/fandisk.obj", "classic/elephant.off"):
         m = meshmark.read_mesh(SHARED / name)
         r = embed(m, payload=Payload.from_bits(rng.integers(0, 2, 16)), key="the-owner")
         det = msg = 0
-        for i in range(1000):
+        for i in range(N["wrong_keys"]):
             x = extract(r.V, m, keyfile=r.keyfile, key=f"wrong-{i}-{rng.integers(1 << 30)}")
             det += x.detected
             msg += x.message is not None
-        rows.append({"test": "wrong keys", "mesh": name, "trials": 1000, "detected": det, "messages": msg})
+        rows.append({"test": "wrong keys", "mesh": name, "trials": N["wrong_keys"], "detected": det, "messages": msg})
         print(rows[-1], flush=True)
     tot = {"trials": 0, "detected": 0, "messages": 0, "meshes": 0}
     for p in shared_meshes():
         m = meshmark.read_mesh(p)
         kfs = []
-        for i in range(20):
+        for i in range(N["keyfiles"]):
             for payload in (Payload.from_bits(rng.integers(0, 2, 16)), Payload.from_bits([1])):
                 try:
                     kfs.append(embed(m, payload=payload, key=f"k{i}-{p.stem}").keyfile)
@@ -137,9 +148,9 @@ def part_false(out):
         tot["detected"] += det
         tot["messages"] += msg
         tot["meshes"] += 1
-        rows.append({"test": "unmarked, 20 keyfiles", "mesh": f"{p.parent.name}/{p.name}", "trials": len(kfs),
+        rows.append({"test": f"unmarked, {N['keyfiles']} keyfiles", "mesh": f"{p.parent.name}/{p.name}", "trials": len(kfs),
                      "detected": det, "messages": msg})
-    print({"test": "unmarked, 20 keyfiles", **tot}, flush=True)
+    print({"test": f"unmarked, {N['keyfiles']} keyfiles", **tot}, flush=True)
     write_csv(rows, os.path.join(out, "false_alarms.csv"))
 
 
@@ -148,10 +159,11 @@ def part_trace(out):
     with tempfile.TemporaryDirectory() as tmp:
         reg = os.path.join(tmp, "r.sqlite")
         t = time.perf_counter()
-        copies = tracing.issue(fd, key="studio", registry=reg, n_copies=1000)
-        print(f"issued 1000 Fandisk copies in {time.perf_counter() - t:.1f} s", flush=True)
-        right = sum(tracing.trace(V, fd, registry=reg)["copy"] == cid for cid, V in copies[:50])
-        rows = [{"suspect": "50 issued copies", "named": right, "wrong": 50 - right, "p_false_alarm": "",
+        copies = tracing.issue(fd, key="studio", registry=reg, n_copies=N["copies"])
+        print(f"issued {N['copies']} Fandisk copies in {time.perf_counter() - t:.1f} s", flush=True)
+        k = N["traced"]
+        right = sum(tracing.trace(V, fd, registry=reg)["copy"] == cid for cid, V in copies[:k])
+        rows = [{"suspect": f"{k} issued copies", "named": right, "wrong": k - right, "p_false_alarm": "",
                  "matches": "", "n_carriers": ""}]
         named = 0
         n = 0
@@ -161,7 +173,7 @@ def part_trace(out):
             n += 1
             rows.append({"suspect": f"{p.parent.name}/{p.name}", "named": int(r["copy"] is not None), "wrong": "",
                          "p_false_alarm": r["p_false_alarm"], "matches": r["matches"], "n_carriers": r["n_carriers"]})
-        print(f"issued copies traced right: {right}/50; unmarked meshes traced to a copy: {named} of {n}", flush=True)
+        print(f"issued copies traced right: {right}/{k}; unmarked meshes traced to a copy: {named} of {n}", flush=True)
     write_csv(rows, os.path.join(out, "trace.csv"))
 
 
@@ -169,7 +181,9 @@ def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--part", default="all", choices=["fit", "false", "trace", "all"])
     ap.add_argument("--out", default=os.path.join(HERE, "out", "product"))
+    ap.add_argument("--quick", action="store_true", help="2 meshes, 50 wrong keys, 2 keyfiles, 20 copies (tested)")
     a = ap.parse_args(argv)
+    N.update(QUICK if a.quick else FULL)
     os.makedirs(a.out, exist_ok=True)
     for part, f in (("fit", part_fit), ("false", part_false), ("trace", part_trace)):
         if a.part in (part, "all"):

@@ -1,7 +1,9 @@
 """Robustness of Yang's radial method vs Cho's mean (and variance) method, thesis Figs. 6.6-6.8, 6.11.
 
     .venv/bin/python examples/radial_robustness.py [--out out/radial_robustness] [--study-out DIR]
-                                                   [--workers N]
+                                                   [--workers N] [--quick]
+
+``--quick``: the same methods and attacks on the Cow only, seed 0.
 
 The study is examples/studies/radial_robustness.toml (meshmark.study; rerunning resumes from
 --study-out): the thesis' own use of each method (raw bits, no key: the ``radial-bits`` and
@@ -31,9 +33,9 @@ SPEC = pathlib.Path(__file__).resolve().parent / "studies" / "radial_robustness.
 FIG_YANG, FIG_CHO = "Yang K=400 all pairs", "Cho mean a=0.04"
 
 
-def table_rows(study_out):
+def table_rows(study_out, sp=None):
     """One row per (mesh, method, attack): the means over the seeds, in the spec's order."""
-    sp = load_spec(SPEC)
+    sp = sp or load_spec(SPEC)
     by: dict = {}
     for r in sorted(load_results(study_out).to_pylist(), key=lambda r: r["seed"]):
         if r["status"] != "ok":
@@ -108,17 +110,22 @@ def main():
     ap.add_argument("--out", default="out/radial_robustness", help="CSV / PNG prefix")
     ap.add_argument("--study-out", default="out/radial_robustness_study", help="study results (resumed if present)")
     ap.add_argument("--workers", type=int, default=None)
+    ap.add_argument("--quick", action="store_true", help="the Cow only, seed 0 (the test suite runs it)")
     a = ap.parse_args()
     out = pathlib.Path(a.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    run(SPEC, a.study_out, workers=a.workers)
-    rows, methods, atts = table_rows(a.study_out)
+    import sys
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+    from _common import quick_spec
+    sp = quick_spec(SPEC, ["../../../shared/meshes/classic/cow.obj"]) if a.quick else load_spec(SPEC)
+    run(sp, a.study_out, workers=0 if a.quick and a.workers is None else a.workers, progress=False)
+    rows, methods, atts = table_rows(a.study_out, sp)
     with open(out.with_suffix(".csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
     print_tables(rows, methods, atts)
-    plot(rows, methods, out.with_suffix(".png"), len(load_spec(SPEC).seeds))
+    plot(rows, methods, out.with_suffix(".png"), len(sp.seeds))
     print(f"wrote {out.with_suffix('.csv')} and {out.with_suffix('.png')}")
 
 

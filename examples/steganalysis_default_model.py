@@ -1,7 +1,10 @@
 """Train the default steganalysis model shipped with meshmark (``meshmark steganalysis detect`` without
 ``--model``) on the openly licensed meshes of ../shared/meshes only (SOURCES.md):
 
-    .venv/bin/python examples/steganalysis_default_model.py [--out src/meshmark/steganalysis/default_model.npz]
+    .venv/bin/python examples/steganalysis_default_model.py [--out src/meshmark/steganalysis/default_model.npz] [--quick --out F]
+
+``--quick`` (the test suite): a small model from 3 open files and 6 generated meshes, the same training code;
+it needs ``--out`` and never replaces the shipped model.
 
 Covers: CC0 / public-domain / CC-BY files (CC-BY-SA, GPL, non-commercial, "no licence stated" and
 everything in corpus-large are left out; attribution is in the model's metadata and
@@ -97,8 +100,11 @@ def group_of(name):
     return name if name.split("#")[0] in G.FAMILIES else name.split("#")[0]
 
 
+QUICK_COVERS = ["classic/spot.obj", "corpus/odedstein_fish_low_resolution.obj", "corpus/odedstein_torus.obj"]
+
+
 def training_set(a):
-    paths = [SHARED / p for p in OPEN]
+    paths = [SHARED / p for p in (QUICK_COVERS if a.quick else OPEN)]
     covers = [(str(p), meshmark.read_mesh(p)) for p in paths] if a.no_augment else augmented(paths)
     if a.variants:
         covers += [v for k, p in enumerate(paths) for v in G.open_variants(str(p), meshmark.read_mesh(p), seed=k)]
@@ -214,11 +220,18 @@ def main():
     ap.add_argument("--no-diversity", action="store_true",
                     help="ablation: drop the open-file variants and the generated covers (the previous recipe)")
     ap.add_argument("--verbose", action="store_true")
+    ap.add_argument("--quick", action="store_true",
+                    help="3 open files, no crops or variants, 6 generated, few learners (tested; needs --out)")
     a = ap.parse_args()
+    if a.quick:
+        if a.out == ap.get_default("out"):
+            raise SystemExit("--quick makes a small test model: give --out (the shipped model is never replaced by it)")
+        a.no_augment, a.variants, a.generated, a.versions = True, 0, 6, 1
+        a.learners, a.universal_learners, a.folds = 5, 11, 3
     if a.evaluate:
         evaluate_on_sources(a.out, a.evaluate, pathlib.Path(a.out).with_suffix(".sources.csv"))
         return
-    paths = [SHARED / p for p in OPEN]
+    paths = [SHARED / p for p in (QUICK_COVERS if a.quick else OPEN)]
     with P.one_thread():
         if a.dataset and pathlib.Path(a.dataset).is_file():
             z = np.load(a.dataset, allow_pickle=False)
@@ -254,7 +267,7 @@ def main():
                     "generated": {"n": a.generated, "seed": a.seed, "families": list(G.TRAINING_FAMILIES)},
                     "cover_kinds": fam, "calibration": cal, "fpr_target": a.fpr,
                     "learners": {"universal": a.universal_learners, "specific": a.learners},
-                    "covers": {p: lic for p, lic in OPEN.items()},
+                    "covers": {p: lic for p, lic in OPEN.items() if not a.quick or p in QUICK_COVERS},
                     "note": "openly licensed meshes of ../shared/meshes plus generated meshes only; see docs/steganalysis.md"}
         model = Model.train(X, y, labs, a.feature_set, "ensemble", training, n_learners=a.learners)
         model.detectors["universal"] = clf.make("ensemble", n_learners=a.universal_learners).fit(X, y)

@@ -1,8 +1,11 @@
 """The default steganalysis model on meshes that are NOT in ../shared (docs/steganalysis.md, "Default
 model on unseen meshes"):
 
-    .venv/bin/python examples/steganalysis_unseen.py --models old.npz new.npz [--n 60] [--blender out/holdout_blender]
-        [--dataset out/unseen_holdout.npz] [--shared out/ds_v2_filled.npz]
+    .venv/bin/python examples/steganalysis_unseen.py [--models default other.npz] [--n 60] [--blender out/holdout_blender]
+        [--dataset out/unseen_holdout.npz] [--shared out/ds_v2_filled.npz] [--json F] [--quick]
+
+``--models default`` (the default) is the shipped model. ``--quick``: 4 generated hold-out covers, no Blender
+meshes, no shared dataset, a fresh cache.
 
 Hold-out covers: ``--n`` meshes of the generated hold-out families (meshmark.steganalysis.generated:
 torus-tube, superquadric, hull-blob; never trained on) plus the Blender-made OBJ files in ``--blender``
@@ -66,28 +69,34 @@ def score(model, X, method, fam, guard=True):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--models", nargs="+", required=True)
+    ap.add_argument("--models", nargs="+", default=["default"], help='model files; "default": the shipped model')
     ap.add_argument("--n", type=int, default=60)
     ap.add_argument("--seed", type=int, default=7)
     ap.add_argument("--blender", default=str(ROOT / "out" / "holdout_blender"))
     ap.add_argument("--dataset", default=str(ROOT / "out" / "unseen_holdout.npz"))
     ap.add_argument("--shared", default=str(ROOT / "out" / "ds_v2_filled.npz"))
     ap.add_argument("--json", default=None, help="write every figure here")
+    ap.add_argument("--quick", action="store_true", help="4 generated hold-out covers only, no cache (tested)")
     a = ap.parse_args()
+    if a.quick:
+        import tempfile
+        a.n, a.blender, a.shared = 4, "", ""
+        if a.dataset == ap.get_default("dataset"):
+            a.dataset = str(pathlib.Path(tempfile.mkdtemp()) / "unseen_quick.npz")
     from meshmark.steganalysis import protocol as P
     from meshmark.steganalysis.model import Model
-    fsets = ("yang208", "lfs76", "nvt36")
+    models = {mp: Model.load() if mp == "default" else Model.load(mp) for mp in a.models}
+    fsets = tuple(dict.fromkeys(s for m in models.values() for s in m.feature_set.split("+")))  # the models' sets
     if pathlib.Path(a.dataset).is_file():
         ds = P.load_dataset(a.dataset)
     else:
-        ds = holdout_dataset(a.n, a.blender if pathlib.Path(a.blender).is_dir() else None, a.seed, fsets)
+        ds = holdout_dataset(a.n, a.blender if a.blender and pathlib.Path(a.blender).is_dir() else None, a.seed, fsets)
         P.save_dataset(ds, a.dataset)
     sets = {"unseen": ds}
     if a.shared and pathlib.Path(a.shared).is_file():
         sets["shared-heldout"] = P.load_dataset(a.shared)
     report = {}
-    for mp in a.models:
-        model = Model.load(mp)
+    for mp, model in models.items():
         train_files = {pathlib.Path(p).name for p in model.training.get("covers", {})}
         for name, d in sets.items():
             X = P.dataset_features(d, model.feature_set)

@@ -1,7 +1,6 @@
-"""The scripts in examples/: every one starts with the current API (its --help, a child process each), and
-the quick modes of the ones not run elsewhere print what the thesis and the CLI say. (The Blender examples
-run in blender_tests/test_examples_*.py; informed_tracing, robustness_table, coding_curve, overmarking and
-the carrier examples in their own tests.)"""
+"""The scripts in examples/: RUNS names, for every script and study spec, the test that runs it for real (not
+--help) and checks what it prints or writes; a new example without such a run fails here. Every bpy-free
+script also starts with the current API (its --help, a child process each)."""
 import csv
 import json
 import pathlib
@@ -20,13 +19,80 @@ BPY_FREE = sorted(p.name for p in EXAMPLES.glob("*.py")
                   and "_blender_common" not in p.read_text() and "argparse" in p.read_text())
 
 
+# script or study spec -> the test that runs it (a child process or its main()) and asserts on its output
+Q, B = "tests/test_examples_quick.py", "blender_tests/test_examples_quick.py"
+RUNS = {
+    "analysis_figures.py": Q + "::test_analysis_figures_on_a_mesh",
+    "analysis_tables.py": Q + "::test_analysis_tables_quick",
+    "attack_table.py": Q + "::test_attack_table_quick",
+    "blender_analyze.py": "blender_tests/test_examples_hiding.py::test_analyze_and_steganalysis_examples",
+    "blender_capacity.py": "blender_tests/test_examples_blender.py::test_capacity_example",
+    "blender_deformation_study.py": "blender_tests/test_examples_blender.py::test_embed_verify_and_study_examples",
+    "blender_demo.py": B + "::test_blender_demo_quick",
+    "blender_embed.py": "blender_tests/test_examples_blender.py::test_embed_verify_and_study_examples",
+    "blender_steganalysis.py": "blender_tests/test_examples_hiding.py::test_analyze_and_steganalysis_examples",
+    "blender_stego_embed.py": "blender_tests/test_examples_hiding.py::test_stego_examples",
+    "blender_stego_extract.py": "blender_tests/test_examples_hiding.py::test_stego_examples",
+    "blender_study.py": "blender_tests/test_examples_hiding.py::test_study_example",
+    "blender_verify.py": "blender_tests/test_examples_blender.py::test_embed_verify_and_study_examples",
+    "carrier_no_attack.py": Q + "::test_carrier_no_attack_quick",
+    "carrier_skinning.py": B + "::test_carrier_skinning_quick",
+    "cho_detector_study.py": Q + "::test_cho_detector_study_quick",
+    "coding_curve.py": Q + "::test_coding_curve_quick",
+    "coding_frame_ml.py": Q + "::test_coding_frame_ml_quick",
+    "deformation_table.py": Q + "::test_deformation_table",
+    "informed_design_study.py": Q + "::test_informed_design_study_quick",
+    "informed_tracing.py": "tests/test_informed.py::test_evaluation_quick_mode",
+    "knight_parts.py": B + "::test_knight_parts_quick",
+    "laplacian_capacity.py": "tests/test_examples.py::test_laplacian_capacity_quick_agrees_with_the_cli_and_the_api",
+    "laplacian_distortion.py": Q + "::test_laplacian_distortion_quick",
+    "laplacian_false_alarms.py": "tests/test_examples.py::test_laplacian_false_alarms_quick_finds_none",
+    "laplacian_no_attack.py": Q + "::test_laplacian_no_attack_quick",
+    "laplacian_robustness.py": Q + "::test_laplacian_robustness_quick",
+    "mesh_summary.py": "tests/test_examples.py::test_mesh_summary_prints_the_counts",
+    "overmarking.py": Q + "::test_overmarking_quick",
+    "product_acceptance.py": Q + "::test_product_acceptance_quick",
+    "radial_distortion.py": Q + "::test_radial_distortion_quick",
+    "radial_robustness.py": Q + "::test_radial_robustness_quick",
+    "robustness_table.py": "tests/test_robustness_study.py::test_quick_study_runs_and_the_table_has_every_row",
+    "steganalysis_blender_holdout.py": B + "::test_steganalysis_blender_holdout_quick",
+    "steganalysis_default_model.py": Q + "::test_steganalysis_default_model_quick",
+    "steganalysis_protocol.py": Q + "::test_steganalysis_protocol_quick",
+    "steganalysis_sources.py": Q + "::test_steganalysis_sources_quick",
+    "steganalysis_table.py": Q + "::test_steganalysis_table_quick",
+    "steganalysis_unseen.py": Q + "::test_steganalysis_unseen_quick",
+    # the study specs: run in a reduced form by the example that wraps them (same methods and attacks)
+    "studies/attack_table.toml": Q + "::test_attack_table_quick",
+    "studies/deformation.toml": Q + "::test_deformation_table",
+    "studies/laplacian_robustness.toml": Q + "::test_laplacian_robustness_quick",
+    "studies/radial_robustness.toml": Q + "::test_radial_robustness_quick",
+    "studies/robustness.toml": "tests/test_robustness_study.py::test_quick_study_runs_and_the_table_has_every_row",
+    "studies/smoke.toml": "tests/test_study.py::test_smoke_results_are_real",
+    "studies/steganalysis.toml": Q + "::test_steganalysis_protocol_quick",
+    "studies/steganalysis_accuracy.toml": Q + "::test_steganalysis_accuracy_spec_small",
+}
+
+
+def test_every_example_has_a_real_run():
+    """The directory listing against RUNS; each named test exists and names the script it runs."""
+    files = {p.name for p in EXAMPLES.glob("*.py") if not p.name.startswith("_")}
+    files |= {f"studies/{p.name}" for p in (EXAMPLES / "studies").glob("*.toml")}
+    assert files == set(RUNS), (sorted(files - set(RUNS)), sorted(set(RUNS) - files))
+    for script, where in RUNS.items():
+        path, name = where.split("::")
+        text = (ROOT / path).read_text()
+        assert f"def {name}(" in text, where
+        body = text[text.index(f"def {name}("):].split("\ndef ")[0]
+        assert pathlib.PurePath(script).stem in body, (script, where)
+
+
 def _run(*args, timeout=600):
     return subprocess.run([sys.executable, *map(str, args)], cwd=EXAMPLES, capture_output=True, text=True,
                           timeout=timeout)
 
 
 def test_the_list_covers_the_examples():
-    assert len(BPY_FREE) >= 25 and "laplacian_capacity.py" in BPY_FREE and "knight_product.py" not in BPY_FREE
+    assert len(BPY_FREE) >= 25 and "laplacian_capacity.py" in BPY_FREE and "knight_parts.py" not in BPY_FREE
 
 
 @pytest.mark.parametrize("name", BPY_FREE)

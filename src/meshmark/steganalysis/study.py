@@ -46,7 +46,7 @@ from . import protocol as P
 
 KIND = "steganalysis"
 KEYS = {"parts", "folders", "subset", "feature_sets", "runs", "splits", "test_fraction", "pca_k", "holdout",
-        "holdout_set", "cho_table", "methods", "universal", "seed", "limit"}
+        "holdout_set", "cho_table", "methods", "universal", "seed", "limit", "by_source"}
 PARTS = {"protocol", "cho_table"}
 DEFAULT_RUNS = [("yang208", "qda"), ("yang208", "ensemble"), ("lfs76s", "ensemble"), ("nvt36s", "ensemble"),
                 ("lfs76s+nvt36s", "ensemble"), ("yang208+lfs76s+nvt36s", "ensemble")]
