@@ -307,6 +307,9 @@ class Forest:
         if mode == "cv":
             oof = np.empty(len(y))
             for tr, te in _cv_folds(y, groups, self.folds, self.seed):
+                if np.unique(y[tr]).size < 2:  # few covers: a fold trained on one class predicts that class
+                    oof[te] = float(y[tr][0])
+                    continue
                 oof[te] = self._model().fit(X[tr], y[tr]).predict_proba(X[te])[:, 1]
             t, _ = _best_threshold(oof[y == 0], oof[y == 1])
             self.t = float(np.clip(t, 1e-3, 1 - 1e-3))
@@ -364,16 +367,19 @@ class LogReg:
         C = self.C
         if C is None:
             groups = None if groups is None else np.asarray(groups)
-            folds = _cv_folds(y, groups, self.folds, self.seed)
+            # folds whose training or test part holds one class only (few covers, grouped by cover) say
+            # nothing about C; with none left, C is the middle of Cs
+            folds = [(tr, te) for tr, te in _cv_folds(y, groups, self.folds, self.seed)
+                     if np.unique(y[tr]).size == 2 and np.unique(y[te]).size == 2]
             score = []
-            for c in self.Cs:
+            for c in self.Cs if folds else ():
                 acc = []
                 for tr, te in folds:
                     Z = self._prep(X[tr], fit=True)
                     pred = self._lr(c).fit(Z, y[tr]).predict(self._prep(X[te]))
                     acc.append(0.5 * ((pred[y[te] == 0] == 0).mean() + (pred[y[te] == 1] == 1).mean()))
                 score.append(np.mean(acc))
-            C = self.Cs[int(np.argmax(score))]
+            C = self.Cs[int(np.argmax(score))] if folds else self.Cs[len(self.Cs) // 2]
         self.C_used = float(C)
         lr = self._lr(C).fit(self._prep(X, fit=True), y)
         self.coef, self.intercept = lr.coef_[0].copy(), float(lr.intercept_[0])
