@@ -1,40 +1,25 @@
 """Files on disk (issue 23): keyfiles private (0600) whatever the umask, nothing overwritten without
 --force (exit 2 before any work), a marked mesh never at its path without its keyfile even after
 SIGKILL, and no temporary left by SIGINT/SIGTERM or after the next run."""
-import hashlib
-import json
 import os
 import pathlib
-import random
 import signal
 import stat
 import subprocess
 import sys
-import time
 
-import numpy as np
 import pytest
 
 import meshmark
 from meshmark import MeshError, atomic
 from meshmark.shapes import torus
 
-PY = sys.executable
-CLI = [PY, "-m", "meshmark"]
-
-
-def run(args, cwd=None, umask=None, **kw):
-    pre = (lambda: os.umask(umask)) if umask is not None else None
-    return subprocess.run(CLI + [str(a) for a in args], capture_output=True, text=True, timeout=120, cwd=cwd,
-                          preexec_fn=pre, **kw)
-
+sys.path.insert(0, str(pathlib.Path(__file__).parent))
+import kill_embed  # noqa: E402  (the SIGKILL loop, also run by bench/kill_embed.py)
+from kill_embed import CLI, PY, run, temps  # noqa: E402
 
 def mode(p) -> int:
     return stat.S_IMODE(os.stat(p).st_mode)
-
-
-def temps(folder) -> list:
-    return sorted(n for n in os.listdir(folder) if atomic._STALE.match(n))
 
 
 @pytest.fixture(scope="module")
@@ -226,73 +211,48 @@ def test_sigint_sigterm_remove_temporaries(tmp_path, sig):
     assert os.listdir(tmp_path) == []
 
 
-def _digest(p):
-    return hashlib.sha256(p.read_bytes()).hexdigest() if p.exists() else None
-
-
-def _keyfile_key(p):
-    """The key a keyfile was written with (its bytes differ per run: 'created'); None if missing."""
-    return json.loads(p.read_text())["key"] if p.exists() else None
-
-
-def kill_run(src, out, kf, keys, n_kills, seed, full_every, on_state=None):
-    """SIGKILL ``embed --force`` at random moments (uniform over a full run, and half of them in its
-    last quarter, where the files are written); after each kill the pair at (out, kf) must be the old
-    pair, the new pair, or the old mesh beside the new keyfile. Every ``full_every`` kills one complete
-    run must leave no temporary. Returns counts of the states seen."""
-    folder = out.parent
-    ref = {}
-    for k in keys:  # the mesh each key gives (embed is deterministic); a keyfile names its key
-        r = run(["embed", src, out, "--keyfile", kf, "--key", k, "--message", "m", "--force"])
-        assert r.returncode == 0, r.stderr
-        ref[k] = _digest(out)
-    t0 = time.perf_counter()
-    run(["embed", src, out, "--keyfile", kf, "--key", keys[0], "--message", "m", "--force"])
-    full = time.perf_counter() - t0
-    by_mesh = {v: k for k, v in ref.items()}
-    assert len(by_mesh) == len(keys)
-    state = (keys[0], keys[0])
-    rnd = random.Random(seed)
-    seen = {"unchanged": 0, "new": 0, "old mesh + new keyfile": 0, "temporaries left": 0, "full runs clean": 0}
-    for i in range(n_kills):
-        new = keys[1] if state[1] == keys[0] else keys[0]
-        delay = rnd.uniform(0, full) if i % 2 == 0 else rnd.uniform(0.75 * full, 1.05 * full)
-        p = subprocess.Popen(CLI + ["embed", str(src), str(out), "--keyfile", str(kf), "--key", new, "--message", "m",
-                                    "--force"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        time.sleep(delay)
-        p.send_signal(signal.SIGKILL)
-        p.wait()
-        m, k = by_mesh.get(_digest(out)), _keyfile_key(kf)
-        assert m is not None and k is not None, f"kill {i} at {delay:.3f} s: a mesh or keyfile that is neither old nor new"
-        if (m, k) == state:
-            seen["unchanged"] += 1
-        elif (m, k) == (new, new):
-            seen["new"] += 1
-        elif (m, k) == (state[0], new):
-            seen["old mesh + new keyfile"] += 1
-        else:
-            raise AssertionError(f"kill {i} at {delay:.3f} s: mesh of key {m} beside the keyfile of key {k} "
-                                 f"(before: {state}, the run wrote {new})")
-        state = (m, k)
-        if on_state:
-            on_state(i, delay, (m, k))
-        seen["temporaries left"] += bool(temps(folder))
-        if (i + 1) % full_every == 0:
-            new = keys[1] if state[1] == keys[0] else keys[0]
-            r = run(["embed", src, out, "--keyfile", kf, "--key", new, "--message", "m", "--force"])
-            assert r.returncode == 0, r.stderr
-            assert temps(folder) == [], f"after kill {i} and a complete run: {temps(folder)}"
-            state = (new, new)
-            seen["full runs clean"] += 1
-    return seen, full
-
-
 def test_sigkill_never_leaves_a_new_mesh_without_its_keyfile(small, tmp_path):
     src = tmp_path / "in.ply"
     meshmark.write_mesh(src, torus(200, 150))  # 30,000 vertices: a run takes about a second here
-    seen, full = kill_run(src, tmp_path / "o.ply", tmp_path / "k.json", ["a", "b"], n_kills=40, seed=1,
+    seen, full = kill_embed.kill_run(src, tmp_path / "o.ply", tmp_path / "k.json", ["a", "b"], n_kills=40, seed=1,
                           full_every=8)
     assert seen["full runs clean"] == 5
     assert seen["new"] + seen["old mesh + new keyfile"] >= 1, seen  # some kills did land in the write phase
     r = run(["extract", tmp_path / "o.ply", "--keyfile", tmp_path / "k.json"])
     assert r.returncode == 0 and "DETECTED" in r.stdout
+
+
+_KILL_AT_RENAME = """
+import os, signal, sys
+when, n = sys.argv[1], int(sys.argv[2])
+real, count = os.replace, [0]
+def replace(a, b):
+    count[0] += 1
+    if when == "before" and count[0] == n:
+        os.kill(os.getpid(), signal.SIGKILL)
+    real(a, b)
+    if when == "after" and count[0] == n:
+        os.kill(os.getpid(), signal.SIGKILL)
+os.replace = replace
+from meshmark.cli import main
+main(sys.argv[3:])
+"""
+
+
+@pytest.mark.parametrize("when,n,expect", [("before", 1, "old"), ("after", 1, "old mesh + new keyfile"),
+                                           ("after", 2, "new")])
+def test_sigkill_at_each_rename(small, tmp_path, when, n, expect):
+    """The kill lands exactly before the first rename, between the two, or after the second: the
+    keyfile is always renamed first (a random kill rarely hits the gap between the renames)."""
+    out, kf = tmp_path / "o.ply", tmp_path / "k.json"
+    assert run(["embed", small, out, "--keyfile", kf, "--key", "a", "--message", "m"]).returncode == 0
+    old_mesh = out.read_bytes()
+    args = ["embed", str(small), str(out), "--keyfile", str(kf), "--key", "b", "--message", "m", "--force"]
+    p = subprocess.run([PY, "-c", _KILL_AT_RENAME, when, str(n)] + args, capture_output=True)
+    assert p.returncode == -signal.SIGKILL, p.stderr
+    key = kill_embed._keyfile_key(kf)
+    got = {("old", "a"): "old", ("new", "b"): "new", ("old", "b"): "old mesh + new keyfile"}.get(
+        ("old" if out.read_bytes() == old_mesh else "new", key), f"new mesh beside the keyfile of {key!r}")
+    assert got == expect
+    assert temps(tmp_path) != [] or expect == "new"
+    assert run(args).returncode == 0 and temps(tmp_path) == []  # the next run removes what the kill left
