@@ -52,9 +52,10 @@ def _emit(d: dict, as_json: bool, text: str) -> None:
     click.echo(json.dumps(d, indent=2) if as_json else text)
 
 
-def check_stego_output(path: str, force: bool = False) -> None:
+def check_stego_output(path: str, force: bool = False, precision: str | None = None) -> None:
     """MeshError (exit 2) before any work when ``path`` cannot take a stego mesh: an unknown or
-    unsuitable format, a missing or read-only folder, or an existing file without ``force``."""
+    unsuitable format (glTF with a precision other than float32), a missing or read-only folder, or
+    an existing file without ``force``."""
     from ..atomic import check_output
     ext = os.path.splitext(path)[1].lower()
     if ext == ".stl":
@@ -63,6 +64,8 @@ def check_stego_output(path: str, force: bool = False) -> None:
     if ext not in (".ply", ".obj", ".off", ".glb", ".gltf"):
         raise MeshError(f"output {path!r}: unknown mesh format (expected .ply, .obj, .off, .glb or .gltf)")
     check_output(path, force, "stego mesh")
+    if ext in (".glb", ".gltf") and precision not in (None, "float32"):
+        raise MeshError(f"glTF stores positions as float32: use --precision float32 (got {precision})")
 
 
 def write_verified(path: str, mesh, V: np.ndarray, precision: str, check, source=None,
@@ -73,7 +76,7 @@ def write_verified(path: str, mesh, V: np.ndarray, precision: str, check, source
     from ..atomic import Staged
     from ..io import read_mesh, write_mesh
 
-    check_stego_output(path, overwrite)
+    check_stego_output(path, overwrite, precision)
     ext = os.path.splitext(path)[1].lower()
     if ext in (".glb", ".gltf"):  # ``source``: the GltfInfo of the asset read (docs/gltf.md)
         return _write_verified_gltf(path, source, V, precision, check, overwrite)
@@ -142,7 +145,7 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
 
     if (message is None) == (message_file is None):
         raise MeshError("give exactly one of --message TEXT or --message-file F")
-    check_stego_output(out, force)  # before any work
+    check_stego_output(out, force, precision)  # before any work
     if message_file is not None:
         try:
             with open(message_file, "rb") as fh:
