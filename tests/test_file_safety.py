@@ -224,35 +224,42 @@ def test_sigkill_never_leaves_a_new_mesh_without_its_keyfile(small, tmp_path):
 
 _KILL_AT_RENAME = """
 import os, signal, sys
-when, n = sys.argv[1], int(sys.argv[2])
+when, n, sig = sys.argv[1], int(sys.argv[2]), getattr(signal, sys.argv[3])
 real, count = os.replace, [0]
 def replace(a, b):
     count[0] += 1
     if when == "before" and count[0] == n:
-        os.kill(os.getpid(), signal.SIGKILL)
+        os.kill(os.getpid(), sig)
     real(a, b)
     if when == "after" and count[0] == n:
-        os.kill(os.getpid(), signal.SIGKILL)
+        os.kill(os.getpid(), sig)
 os.replace = replace
 from meshmark.cli import main
-main(sys.argv[3:])
+main(sys.argv[4:])
 """
 
 
-@pytest.mark.parametrize("when,n,expect", [("before", 1, "old"), ("after", 1, "old mesh + new keyfile"),
-                                           ("after", 2, "new")])
-def test_sigkill_at_each_rename(small, tmp_path, when, n, expect):
-    """The kill lands exactly before the first rename, between the two, or after the second: the
-    keyfile is always renamed first (a random kill rarely hits the gap between the renames)."""
+@pytest.mark.parametrize("when,n,expect,sig", [("before", 1, "old", "SIGKILL"),
+                                               ("after", 1, "old mesh + new keyfile", "SIGKILL"),
+                                               ("after", 2, "new", "SIGKILL"),
+                                               ("before", 1, "old", "SIGTERM"),
+                                               ("after", 1, "old mesh + new keyfile", "SIGINT")])
+def test_signal_at_each_rename(small, tmp_path, when, n, expect, sig):
+    """The signal lands exactly before the first rename, between the two, or after the second: the
+    keyfile is always renamed first (a random kill rarely hits the gap between the renames); SIGTERM
+    and SIGINT remove the temporaries themselves and end the process by the signal."""
     out, kf = tmp_path / "o.ply", tmp_path / "k.json"
     assert run(["embed", small, out, "--keyfile", kf, "--key", "a", "--message", "m"]).returncode == 0
     old_mesh = out.read_bytes()
     args = ["embed", str(small), str(out), "--keyfile", str(kf), "--key", "b", "--message", "m", "--force"]
-    p = subprocess.run([PY, "-c", _KILL_AT_RENAME, when, str(n)] + args, capture_output=True)
-    assert p.returncode == -signal.SIGKILL, p.stderr
+    p = subprocess.run([PY, "-c", _KILL_AT_RENAME, when, str(n), sig] + args, capture_output=True)
+    assert p.returncode == -getattr(signal, sig), p.stderr
     key = kill_embed._keyfile_key(kf)
     got = {("old", "a"): "old", ("new", "b"): "new", ("old", "b"): "old mesh + new keyfile"}.get(
         ("old" if out.read_bytes() == old_mesh else "new", key), f"new mesh beside the keyfile of {key!r}")
     assert got == expect
+    if sig != "SIGKILL":
+        assert temps(tmp_path) == []  # removed by the signal handler
+        return
     assert temps(tmp_path) != [] or expect == "new"
     assert run(args).returncode == 0 and temps(tmp_path) == []  # the next run removes what the kill left
