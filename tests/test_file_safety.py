@@ -16,7 +16,8 @@ from meshmark.shapes import torus
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
 import kill_embed  # noqa: E402  (the SIGKILL loop, also run by bench/kill_embed.py)
-from kill_embed import CLI, PY, run, temps  # noqa: E402
+from kill_embed import PY, run, temps  # noqa: E402
+
 
 def mode(p) -> int:
     return stat.S_IMODE(os.stat(p).st_mode)
