@@ -38,8 +38,7 @@ def main() -> int:
         except AssertionError as exc:
             print(json.dumps({"kills": a.kills, "violation": str(exc)}, indent=1))
             return 1
-    print(json.dumps({"kills": a.kills, "seed": a.seed, "full_run_seconds": round(full, 3),
-                      "mesh_vertices": 30000, **seen, "violations": 0}, indent=1))
+    print(json.dumps({"kills": a.kills, "seed": a.seed, "mesh_vertices": 30000, **seen, "violations": 0}, indent=1))
     return 0
 
 
