@@ -278,7 +278,7 @@ def main():
             c = ~y
             dom = model.set_domain(X[c], groups[c], rate=a.domain_rate, group_kind="a file with its variants, or one generated mesh")
             model.training["domain"] = dom
-    model.save(a.out)
+    model.save(a.out, overwrite=True)  # regenerates the shipped model
     print(f"wrote {a.out} ({pathlib.Path(a.out).stat().st_size / 1024:.0f} KB): {training['n_covers']} covers "
           f"({fam}), {training['n_stego']} stego; threshold {threshold:.3f}; calibration {cal}")
 

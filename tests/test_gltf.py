@@ -261,7 +261,7 @@ def test_cli_stego_and_issue_write_back(tmp_path):
     _check_only_positions_changed(src.read_bytes(), out.read_bytes())
     r = run("stego", "extract", str(out), "--key", "k", "--precision", "float32")
     assert r[0] == 0 and r[1].strip() == "hi"
-    r = run("stego", "embed", str(src), str(out), "--message", "hi", "--key", "k")
+    r = run("stego", "embed", str(src), str(out), "--message", "hi", "--key", "k", "--force")
     assert r[0] == 2 and "float32" in r[2]
     src = shared_mesh("rigged/Knight.glb")
     r = run("issue", str(src), str(tmp_path / "c"), "--copies", "2", "--key", "s", "--registry",

@@ -86,6 +86,9 @@ class _Group(click.Group):
             sys.exit(EXIT_INPUT_ERROR)
         except (click.exceptions.ClickException, click.exceptions.Exit, click.exceptions.Abort):
             raise
+        except KeyboardInterrupt:  # Ctrl-C: the shell's status 130, never 1 ("not detected")
+            click.echo("meshmark: interrupted", err=True)
+            sys.exit(128 + 2)
         except Exception as exc:  # a bug: never a bare traceback, never status 1 ("not detected")
             if debug:
                 traceback.print_exc()
@@ -226,7 +229,7 @@ def _progress_bar(as_json: bool):
 @click.option("--bits", help="Raw bit string to hide, e.g. 0110.")
 @click.option("--key", required=True, help="Secret key (keep it; it is also stored in the keyfile unless --no-store-key).")
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Where to write the keyfile (JSON).")
-@click.option("--force", is_flag=True, default=False, help="Overwrite an existing keyfile.")
+@click.option("--force", is_flag=True, default=False, help="Overwrite an existing marked mesh and keyfile.")
 @click.option("--key-bins", "key_bins", is_flag=True, default=False,
               help="Move the published bin count K by a key-derived 3-12 % so another embedder's bins do not align "
                    "with yours (the mark survives overmarking more often; docs/security.md).")
@@ -238,21 +241,22 @@ def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_b
     """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile.
 
     Both files are written, or neither: the folders are checked before any work, then both go to
-    temporary files that are renamed only when both are complete. An existing keyfile is replaced
-    only with --force.
+    private temporary files that are renamed only when both are complete, the keyfile first, so a
+    marked mesh never stands at OUT without its keyfile, even if the process is killed (docs/cli.md).
+    An existing OUT or keyfile is replaced only with --force.
     """
-    from .atomic import check_writable, write_all
+    from .atomic import check_output, text_writer, write_all
     from .io import mesh_outputs, read_mesh
-    from .watermark import METHODS, embed as wm_embed, save_keyfile
+    from .watermark import METHODS, embed as wm_embed
     from .watermark.payload import Payload
 
     if (message is None) == (bits is None):
         raise MeshError("give exactly one of --message TEXT or --bits 0110...")
-    check_writable(out, "marked mesh")
-    check_writable(keyfile, "keyfile")
+    if os.path.realpath(out) == os.path.realpath(keyfile):
+        raise MeshError(f"OUT and --keyfile are the same file '{_safe(out)}'; give the keyfile its own name")
+    check_output(out, force, "marked mesh")  # before any work: nothing is written if one exists
+    check_output(keyfile, force, "keyfile")
     payload = Payload.from_text(message) if message is not None else Payload.from_bits(bits)
-    from .watermark.keyfile import refuse_overwrite
-    refuse_overwrite(keyfile, force, "--force")  # before any work: nothing is written if it exists
     method_kw = _params(**method_params)  # ranges checked before the mesh is read
     mesh, fmt = read_mesh(inp, return_info=True)
     report, bar = _progress_bar(as_json)
@@ -263,8 +267,9 @@ def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_b
         if bar is not None:
             bar.__exit__(None, None, None)
     items = mesh_outputs(out, res.V, mesh, fmt)  # a glTF asset: only its positions change (docs/gltf.md)
-    write_all(items + [(keyfile, lambda p: save_keyfile(res.keyfile, p, overwrite=True))],  # checked above (--force)
-              what=["marked mesh"] * len(items) + ["keyfile"])
+    # the keyfile is renamed into place first, the mesh after it (atomic.py)
+    write_all([(keyfile, text_writer(res.keyfile.to_json()))] + items, what=["keyfile"] + ["marked mesh"] * len(items),
+              private=[True] + [False] * len(items), overwrite=force)
     d = {"input": inp, "output": out, "keyfile": keyfile, "key_stored": store_key, **res.to_dict()}
     coded = res.keyfile.coding
     how = (f"{coded['info_bits']} with the keyed check" if coded.get("check_bits") else "keyed code")

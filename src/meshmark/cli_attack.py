@@ -103,8 +103,9 @@ def check_options(name, opts: dict) -> None:
 @click.option("--format", "fmt", help="roundtrip: obj (6 decimals, default), ply (float), stl.")
 @click.option("--decimals", type=int, help="roundtrip obj: decimals written, 0..17 (default 6).")
 @click.option("--seed", type=int, help="random attacks: seed, 0..2^64-1 (default 0).")
+@click.option("--force", is_flag=True, default=False, help="Overwrite an existing OUT.")
 @click.option("--json", "as_json", is_flag=True, help="Print a summary (with the distortion) as JSON.")
-def attack(mesh_in, mesh_out, name, chain_text, as_json, **opts):
+def attack(mesh_in, mesh_out, name, chain_text, force, as_json, **opts):
     """Apply an attack (--type) or a chain of attacks (--chain) to IN and write the result to OUT
     (format from the extension, double precision).
 
@@ -119,13 +120,14 @@ def attack(mesh_in, mesh_out, name, chain_text, as_json, **opts):
       meshmark attack in.obj out.ply --chain "bend:30,simplify:0.5,noise:0.001,similarity,reorder,roundtrip:obj" --seed 2
     """
     import numpy as np
-    from .atomic import write_all
+    from .atomic import check_output, write_all
     from .io import mesh_outputs, read_mesh
     from .attacks import ATTACKS, attack as run_attack, chain as run_chain, parameters, parse_chain
     from .metrics import compare
 
     if (name is None) == (chain_text is None):
         raise MeshError("give exactly one of --type NAME or --chain STEPS")
+    check_output(mesh_out, force, "attacked mesh")  # before any work
     if chain_text is not None:
         given = [_OPTION_NAMES.get(k, "--" + k) for k, v in opts.items() if v is not None and k != "seed"]
         if given:
@@ -153,7 +155,8 @@ def attack(mesh_in, mesh_out, name, chain_text, as_json, **opts):
         label = name
     # the faces unchanged (glTF: the asset written back with only its positions changed), else a new mesh
     same = np.array_equal(out.face_indices, m.face_indices) and np.array_equal(out.face_offsets, m.face_offsets)
-    write_all(mesh_outputs(mesh_out, out.V, m if same else out, fmt if same else None), what=["attacked mesh"])
+    write_all(mesh_outputs(mesh_out, out.V, m if same else out, fmt if same else None), what=["attacked mesh"],
+              overwrite=force)
     d = {"in": mesh_in, "out": mesh_out, "type": label, "params": params,
          "n_vertices": out.n_vertices, "n_faces": out.n_faces}
     text = f"{label}: wrote {mesh_out} ({out.n_vertices} vertices, {out.n_faces} faces)"

@@ -282,12 +282,13 @@ def plan_write(info: GltfInfo, V, out_path) -> list:
     return files + sidecars
 
 
-def write_positions(info: GltfInfo, V, out_path) -> list:
+def write_positions(info: GltfInfo, V, out_path, overwrite: bool = True) -> list:
     """Write the asset of ``info`` with positions ``V`` to ``out_path`` (and any external ``.bin``
-    beside it), all files or none. Returns the paths written."""
+    beside it), all files or none. Returns the paths written. ``overwrite=False``: MeshError naming
+    the first file that exists (before anything is written)."""
     files = plan_write(info, V, out_path)
     write_all([(p, (lambda data: lambda tmp: _write_bytes(tmp, data))(d)) for p, d in files],
-              what=["glTF asset"] + ["glTF buffer"] * (len(files) - 1))
+              what=["glTF asset"] + ["glTF buffer"] * (len(files) - 1), overwrite=overwrite)
     return [p for p, _ in files]
 
 

@@ -22,11 +22,13 @@ def _set_option(f):
                              "or a '+' combination (yang208+lfs76s+nvt36s).")(f)
 
 
-def check_output_path(out) -> pathlib.Path:
+def check_output_path(out, force: bool | None = None, option: str = "--out") -> pathlib.Path:
     """MeshError (exit 2) before any work when ``out`` cannot be written: a folder, a missing or
-    read-only parent folder."""
+    read-only parent folder; with ``force=False``, an existing file."""
     import os
     p = pathlib.Path(out)
+    if force is False and p.exists() and not p.is_dir():
+        raise MeshError(f"{option} {out} already exists; pass --force to overwrite it")
     if p.is_dir():
         raise MeshError(f"--out {out} is a folder; give a file name (.npz)")
     parent = p.parent if str(p.parent) else pathlib.Path(".")
@@ -37,6 +39,18 @@ def check_output_path(out) -> pathlib.Path:
     if p.exists() and not os.access(p, os.W_OK):
         raise MeshError(f"--out {out} exists and is not writable")
     return p
+
+
+def _write_csv(path, rows, fields, force: bool) -> None:
+    import io
+    from ..atomic import write_text
+    buf = io.StringIO(newline="")
+    w = csv.DictWriter(buf, fieldnames=fields)
+    w.writeheader()
+    w.writerows(rows)
+    if not force and pathlib.Path(path).exists():  # appeared while the evaluation ran
+        raise MeshError(f"--csv {path} already exists; pass --force to overwrite it")
+    write_text(path, buf.getvalue())
 
 
 def add_commands(group: click.Group) -> None:
@@ -65,8 +79,9 @@ def add_commands(group: click.Group) -> None:
     @click.option("--domain-rate", type=click.FloatRange(0, 0.5), default=0.05, show_default=True,
                   help="Domain check: share of the training covers (each against the others) beyond which a mesh is "
                        "'cannot judge'; 0 = no check.")
+    @click.option("--force", is_flag=True, default=False, help="Overwrite an existing --out.")
     @click.option("--json", "as_json", is_flag=True, help="Print a summary as JSON.")
-    def train_cmd(covers, out, feature_set, classifier, methods, stego, seed, domain_rate, as_json):
+    def train_cmd(covers, out, feature_set, classifier, methods, stego, seed, domain_rate, force, as_json):
         """Train a universal and per-method detectors on the cover meshes COVERS (files or folders) and
         their stego versions, and save the model to --out."""
         import numpy as np
@@ -75,7 +90,7 @@ def add_commands(group: click.Group) -> None:
         from .model import Model, corpus_hash
 
         from ..ranges import check_seed
-        check_output_path(out)  # before hours of training (issue 23)
+        check_output_path(out, force)  # before hours of training (issue 23)
         check_seed(seed)
         paths = P.mesh_files(covers)
         if not paths:
@@ -100,7 +115,7 @@ def add_commands(group: click.Group) -> None:
             c = np.flatnonzero(ds["method"] == "cover")
             if domain_rate > 0 and len(c) >= 2:
                 model.training["domain"] = model.set_domain(X[c], ds["cover"][c], rate=domain_rate, group_kind="one cover file")
-        model.save(out)
+        model.save(out, overwrite=force)
         d = {"model": out, "feature_set": feature_set, "classifier": classifier, **{k: v for k, v in training.items()
                                                                                   if k != "covers"}}
         _emit(d, as_json, f"wrote {out}: {classifier} on {feature_set}, {d['n_covers']} covers, {d['n_stego']} stego "
@@ -159,9 +174,10 @@ def add_commands(group: click.Group) -> None:
     @click.option("--dedup/--no-dedup", default=True, show_default=True,
                   help="Drop covers that are the same geometry as another (byte-identical or another format / order).")
     @click.option("--csv", "csv_path", type=click.Path(dir_okay=False), help="Write one row per split and detector.")
+    @click.option("--force", is_flag=True, default=False, help="Overwrite an existing --csv file.")
     @click.option("--json", "as_json", is_flag=True, help="Print the median table as JSON.")
     def evaluate_cmd(covers, feature_set, classifier, splits, test_fraction, methods, dataset, proto, dedup, csv_path,
-                     as_json):
+                     force, as_json):
         """Thesis chapter 8 protocol on COVERS: random cover-level splits (or, with --protocol sources,
         leave one source out), specific and universal detectors, median accuracy / TPR / FPR / P_E."""
         from . import protocol as P
@@ -170,7 +186,9 @@ def add_commands(group: click.Group) -> None:
         check_int("splits", splits, 1, 10_000)  # before the corpus is read
         check_float("test_fraction", test_fraction, 0.0, 1.0, low_open=True, high_open=True)
         if dataset:
-            check_output_path(dataset)
+            check_output_path(dataset, option="--dataset")  # a cache: read when it matches, never replaced
+        if csv_path:
+            check_output_path(csv_path, force, "--csv")
         paths = P.mesh_files(covers)
         if not paths:
             raise MeshError(f"empty corpus: no meshes in {', '.join(covers)}")
@@ -193,10 +211,7 @@ def add_commands(group: click.Group) -> None:
             rows = evaluate_by_source(ds, feature_set, classifier)
             table = source_table(rows)
             if csv_path:
-                with open(csv_path, "w", newline="") as f:
-                    w = csv.DictWriter(f, fieldnames=sorted({k for r in rows for k in r}))
-                    w.writeheader()
-                    w.writerows(rows)
+                _write_csv(csv_path, rows, sorted({k for r in rows for k in r}), force)
             text = "| source | covers | universal | universal@5% | FPR | TPR |\n|---|---:|---:|---:|---:|---:|\n" + "\n".join(
                 f"| {r['source']} | {r['n_covers']} | {r['universal']:.3f} | {r['universal@fpr']:.3f} | {r['fpr']:.3f} | "
                 f"{r['tpr']:.3f} |" for r in table)
@@ -205,10 +220,7 @@ def add_commands(group: click.Group) -> None:
             return
         rows = P.evaluate(ds, feature_set, classifier, splits, test_fraction)
         if csv_path:
-            with open(csv_path, "w", newline="") as f:
-                w = csv.DictWriter(f, fieldnames=list(rows[0]))
-                w.writeheader()
-                w.writerows(rows)
+            _write_csv(csv_path, rows, list(rows[0]), force)
         table = P.median_table(rows)
         text = "| detector | splits | accuracy | TPR | FPR | P_E |\n|---|---:|---:|---:|---:|---:|\n" + "\n".join(
             f"| {r['detector']} | {r['splits']} | {r['median_accuracy']:.3f} | {r['median_tpr']:.3f} | "

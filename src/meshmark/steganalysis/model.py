@@ -28,9 +28,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
-import os
 import pathlib
-import tempfile
 
 import numpy as np
 
@@ -190,8 +188,10 @@ class Model:
         return self.detect_features(F)
 
     # --- files --------------------------------------------------------------------------------
-    def save(self, path) -> None:
+    def save(self, path, overwrite: bool = False) -> None:
+        """Write the model (.npz) atomically; an existing file is replaced only with ``overwrite=True``."""
         from .. import __version__
+        from ..atomic import write_bytes
         meta = {"format": FORMAT, "format_version": FORMAT_VERSION, "feature_set": self.feature_set,
                 "n_features": feature_length(self.feature_set), "classifier": self.classifier,
                 "detectors": {k: {"kind": d.kind, "params": d.params(), "method": self.methods[k]}
@@ -209,18 +209,9 @@ class Model:
         for k, d in self.detectors.items():
             for a, v in d.arrays().items():
                 arrays[f"{k}/{a}"] = np.asarray(v)
-        path = pathlib.Path(path)
         buf = io.BytesIO()
         np.savez_compressed(buf, **arrays)
-        fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", suffix=".tmp")
-        try:
-            with os.fdopen(fd, "wb") as f:
-                f.write(buf.getvalue())
-            os.replace(tmp, path)  # atomic: a failed save leaves no file
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        write_bytes(path, buf.getvalue(), what="model", overwrite=overwrite)  # a failed save leaves no file
 
     @classmethod
     def load(cls, path=None) -> "Model":

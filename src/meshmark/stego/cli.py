@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import os
 import sys
-import tempfile
 
 import click
 
@@ -63,24 +62,36 @@ def _emit(d: dict, as_json: bool, text: str) -> None:
     click.echo(jsonout.dumps(d) if as_json else text)
 
 
-def write_verified(path: str, mesh, V: np.ndarray, precision: str, check, source=None) -> None:
-    """Write ``mesh`` with positions ``V`` to ``path`` so that reading it back gives V exactly, then
-    run ``check(read_mesh)`` (True = the message comes back); only then move it into place.
-    MeshError (and no file) otherwise."""
-    from ..io import read_mesh, write_mesh
-
+def check_stego_output(path: str, force: bool = False, precision: str | None = None) -> None:
+    """MeshError (exit 2) before any work when ``path`` cannot take a stego mesh: an unknown or
+    unsuitable format (glTF with a precision other than float32), a missing or read-only folder, or
+    an existing file without ``force``."""
+    from ..atomic import check_output
     ext = os.path.splitext(path)[1].lower()
-    if ext in (".glb", ".gltf"):  # ``source``: the GltfInfo of the asset read (docs/gltf.md)
-        return _write_verified_gltf(path, source, V, precision, check)
     if ext == ".stl":
         raise MeshError("STL cannot carry stego data (it has no shared vertices: the reader welds them); "
                         "use .ply, .obj or .off")
-    if ext not in (".ply", ".obj", ".off"):
+    if ext not in (".ply", ".obj", ".off", ".glb", ".gltf"):
         raise MeshError(f"output {path!r}: unknown mesh format (expected .ply, .obj, .off, .glb or .gltf)")
-    d = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".meshmark-stego-", suffix=ext, dir=d)
-    os.close(fd)
-    try:
+    check_output(path, force, "stego mesh")
+    if ext in (".glb", ".gltf") and precision not in (None, "float32"):
+        raise MeshError(f"glTF stores positions as float32: use --precision float32 (got {precision})")
+
+
+def write_verified(path: str, mesh, V: np.ndarray, precision: str, check, source=None,
+                   overwrite: bool = False) -> None:
+    """Write ``mesh`` with positions ``V`` to ``path`` so that reading it back gives V exactly, then
+    run ``check(read_mesh)`` (True = the message comes back); only then move it into place.
+    MeshError (and no file) otherwise; an existing ``path`` is replaced only with ``overwrite=True``."""
+    from ..atomic import Staged
+    from ..io import read_mesh, write_mesh
+
+    check_stego_output(path, overwrite, precision)
+    ext = os.path.splitext(path)[1].lower()
+    if ext in (".glb", ".gltf"):  # ``source``: the GltfInfo of the asset read (docs/gltf.md)
+        return _write_verified_gltf(path, source, V, precision, check, overwrite)
+    with Staged([path], what=["stego mesh"], overwrite=overwrite) as st:
+        tmp = st.temps[0]
         # PLY: binary, float for float32 carriers, double otherwise; OBJ/OFF: 17 significant digits
         # (enough for any float64, hence for float32 and fixed32 words).
         write_mesh(tmp, mesh.with_vertices(V), binary=True, float32=(precision == "float32" and ext == ".ply"),
@@ -95,16 +106,13 @@ def write_verified(path: str, mesh, V: np.ndarray, precision: str, check, source
             raise MeshError("the written file does not store the faces as given; nothing was written")
         if not check(back):
             raise MeshError("the message does not come back from the written file; nothing was written")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+        st.commit()
 
 
-def _write_verified_gltf(path: str, info, V: np.ndarray, precision: str, check) -> None:
+def _write_verified_gltf(path: str, info, V: np.ndarray, precision: str, check, overwrite: bool) -> None:
     """write_verified for glTF: the asset the input was read from (``info``, its GltfInfo) with the
     marked positions, written first into a temporary folder beside ``path`` and read back there."""
-    import shutil
+    from ..atomic import temp_folder
     from ..gltf import plan_write, write_positions
     from ..io import read_mesh
 
@@ -112,8 +120,7 @@ def _write_verified_gltf(path: str, info, V: np.ndarray, precision: str, check) 
         raise MeshError("stego into a glTF needs a glTF input (the marked positions are written back into the asset)")
     if precision != "float32":
         raise MeshError(f"glTF stores positions as float32: use --precision float32 (got {precision})")
-    d = tempfile.mkdtemp(prefix=".meshmark-stego-", dir=os.path.dirname(os.path.abspath(path)))
-    try:
+    with temp_folder(path) as d:
         tmp = os.path.join(d, os.path.basename(path))
         for p, data in plan_write(info, V, tmp):
             with open(p, "wb") as f:
@@ -121,9 +128,7 @@ def _write_verified_gltf(path: str, info, V: np.ndarray, precision: str, check) 
         back = read_mesh(tmp)
         if back.V.shape != V.shape or not np.array_equal(back.V, V) or not check(back):
             raise MeshError("the message does not come back from the written asset; nothing was written")
-    finally:
-        shutil.rmtree(d, ignore_errors=True)
-    write_positions(info, V, path)
+    write_positions(info, V, path, overwrite=overwrite)
 
 
 @click.group("stego")
@@ -140,14 +145,17 @@ def stego():
 @_common
 @click.option("--precision", type=_PRECISION, default="fixed32", show_default=True,
               help="The storage the marked coordinates must survive exactly.")
+@click.option("--force", is_flag=True, default=False, help="Overwrite an existing OUT.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptive, level, precision, as_json):
-    """Hide a message in IN and write OUT (.ply/.obj/.off), verified by reading OUT back."""
+def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptive, level, precision, force, as_json):
+    """Hide a message in IN and write OUT (.ply/.obj/.off), verified by reading OUT back.
+    An existing OUT is replaced only with --force."""
     from ..io import read_mesh
     from . import embed, extract
 
     if (message is None) == (message_file is None):
         raise MeshError("give exactly one of --message TEXT or --message-file F")
+    check_stego_output(out, force, precision)  # before any work
     if message_file is not None:
         try:
             with open(message_file, "rb") as fh:
@@ -166,7 +174,7 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
         r = extract(back, k, **kw)
         return r.found and r.message == payload
 
-    write_verified(out, mesh, res.V, precision, check, source=fmt.get("gltf"))
+    write_verified(out, mesh, res.V, precision, check, source=fmt.get("gltf"), overwrite=force)
     from ..metrics import normal_degradation
     deg = float(normal_degradation(mesh, res.V, degrees=True))
     d = {"input": inp, "output": out, "message_bytes": len(payload), "precision": precision,
@@ -184,13 +192,18 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
 @_common
 @click.option("--precision", type=_PRECISION, default="fixed32", show_default=True)
 @click.option("--out-file", type=click.Path(dir_okay=False), default=None, help="Write the message bytes here.")
+@click.option("--force", is_flag=True, default=False, help="Overwrite an existing --out-file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_file, as_json):
-    """Recover the message hidden in IN. Exit status: 0 found, 1 no message (wrong key, damaged, clean)."""
+def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_file, force, as_json):
+    """Recover the message hidden in IN. Exit status: 0 found, 1 no message (wrong key, damaged, clean).
+    An existing --out-file is replaced only with --force."""
+    from ..atomic import check_output, write_bytes
     from ..io import read_mesh
     from . import extract
 
     _check_common(tolerance, level)
+    if out_file is not None:
+        check_output(out_file, force, "message file")  # before any work
     k = _key(key, key_file)
     mesh = read_mesh(inp)
     r = extract(mesh, k, tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=precision, levels=level)
@@ -198,11 +211,7 @@ def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_f
         _emit({"input": inp, "found": False, "reason": r.reason}, as_json, f"{inp}: no message ({r.reason})")
         sys.exit(1)
     if out_file is not None:
-        d = os.path.dirname(os.path.abspath(out_file))
-        fd, tmp = tempfile.mkstemp(prefix=".meshmark-msg-", dir=d)
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(r.message)
-        os.replace(tmp, out_file)
+        write_bytes(out_file, r.message, what="message file", overwrite=force)
     try:
         text = r.message.decode("utf-8")
     except UnicodeDecodeError:

@@ -107,10 +107,11 @@ def status_cmd(out, spec, as_json):
 @study.command("plot")
 @click.argument("results")
 @click.option("--out", "out", default=None, help="Folder for the PNG figures and summary.csv (default RESULTS/plots).")
-def plot_cmd(results, out):
+@click.option("--force", is_flag=True, default=False, help="Overwrite the figures of an earlier plot in --out.")
+def plot_cmd(results, out, force):
     """Standard figures (CDR vs attack strength per method, detection vs deformation, capacity vs size)
     as PNG and a CSV summary (means per method and attack)."""
     from . import plot
-    written = plot.plot(results, out)
+    written = plot.plot(results, out, overwrite=force)
     for p in written:
         click.echo(p)

@@ -22,6 +22,7 @@ import pathlib
 
 import numpy as np
 
+from .._core import MeshError
 from .engine import load_results
 
 DEFORM = ("bend", "blender_bend")
@@ -55,11 +56,18 @@ def _attack_name(r) -> str:
     return ch[0][0] if len(ch) == 1 else ("none" if not ch else "chain")
 
 
-def plot(results, out=None) -> list:
+def plot(results, out=None, overwrite: bool = False) -> list:
+    """Write the figures and summary.csv into ``out`` (default RESULTS/plots); a folder that already
+    holds a summary.csv is written into only with ``overwrite=True`` (MeshError otherwise)."""
+    out = pathlib.Path(out) if out else pathlib.Path(results) / "plots"
+    if out.exists() and not out.is_dir():
+        raise MeshError(f"--out {out} is a file; give a folder for the figures")
+    if not overwrite and (out / "summary.csv").exists():
+        raise MeshError(f"{out} already holds the figures of a study plot ({out / 'summary.csv'}); "
+                        "pass --force to overwrite them")
     from ..optional import pyplot
     plt = pyplot("meshmark study plot")
 
-    out = pathlib.Path(out) if out else pathlib.Path(results) / "plots"
     out.mkdir(parents=True, exist_ok=True)
     rows = _rows(results)
     written = []

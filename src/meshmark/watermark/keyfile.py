@@ -151,11 +151,12 @@ def refuse_overwrite(path, overwrite: bool, how: str = "overwrite=True") -> None
 
 
 def save_keyfile(keyfile: Keyfile, path: str | os.PathLike, overwrite: bool = False) -> None:
-    """Write the keyfile as JSON with its tag (atomically: a temporary file then a rename). An
-    existing file is replaced only with ``overwrite=True`` (MeshError otherwise)."""
+    """Write the keyfile as JSON with its tag (atomically: a private temporary file then a rename);
+    the file is readable by its owner only (0600) whatever the umask. An existing file is replaced
+    only with ``overwrite=True`` (MeshError otherwise)."""
     from ..atomic import write_text
     refuse_overwrite(path, overwrite)
-    write_text(path, keyfile.to_json())
+    write_text(path, keyfile.to_json(), private=True)
 
 
 def _reject_constant(name):
