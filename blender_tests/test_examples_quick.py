@@ -56,8 +56,10 @@ def test_carrier_skinning_quick(tmp_path):
          "--carriers", "local,thesis", "--out", tmp_path)
     study = list(csv.DictReader(open(tmp_path / "study_hand.csv")))
     assert {"local", "thesis"} <= {r["carrier"] for r in study}
-    rest = [r for r in study if r["frame"] == "bend0_twist0"]
-    assert rest and all(float(r["flip_K230"]) == 0.0 for r in rest)
+    # no flip at the rest pose, except with the asinh compression, which loses bins to float rounding
+    # (laplacian.py: why it is not a carrier of the method)
+    rest = [r for r in study if r["frame"] == "bend0_twist0" and "asinh" not in r["carrier"]]
+    assert len(rest) >= 6 and all(float(r["flip_K230"]) == 0.0 for r in rest)
     assert all(0.0 <= float(r["flip_K230"]) <= 1.0 for r in study)
     pipe = list(csv.DictReader(open(tmp_path / "pipeline_hand.csv")))
     assert {r["carrier"] for r in pipe} == {"local", "thesis"}

@@ -127,7 +127,6 @@ def attack(mesh_in, mesh_out, name, chain_text, force, as_json, **opts):
 
     if (name is None) == (chain_text is None):
         raise MeshError("give exactly one of --type NAME or --chain STEPS")
-    check_output(mesh_out, force, "attacked mesh")  # before any work
     if chain_text is not None:
         given = [_OPTION_NAMES.get(k, "--" + k) for k, v in opts.items() if v is not None and k != "seed"]
         if given:
@@ -135,6 +134,7 @@ def attack(mesh_in, mesh_out, name, chain_text, force, as_json, **opts):
         check_options(None, {"seed": opts["seed"]})
         steps = parse_chain(chain_text)  # bad text: exit 2 naming the step, before the mesh is read
         seed = 0 if opts["seed"] is None else opts["seed"]
+        check_output(mesh_out, force, "attacked mesh")  # after the options, before any work
         m, fmt = read_mesh(mesh_in, return_info=True)
         out = run_chain(m, steps, seed=seed)
         params = {"chain": chain_text, "seed": seed, "steps": [[n, p] for n, p in steps]}
@@ -150,6 +150,7 @@ def attack(mesh_in, mesh_out, name, chain_text, force, as_json, **opts):
         if bad:
             raise MeshError(f"--type {name} does not take {', '.join(bad)}")
         check_options(name, opts)
+        check_output(mesh_out, force, "attacked mesh")  # after the options, before any work
         m, fmt = read_mesh(mesh_in, return_info=True)
         out = run_attack(m, name=name, **params)
         label = name

@@ -155,7 +155,8 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
 
     if (message is None) == (message_file is None):
         raise MeshError("give exactly one of --message TEXT or --message-file F")
-    check_stego_output(out, force, precision)  # before any work
+    _check_common(tolerance, level)  # the options first, then the output, before any work
+    check_stego_output(out, force, precision)
     if message_file is not None:
         try:
             with open(message_file, "rb") as fh:
@@ -164,7 +165,6 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
             raise MeshError(f"--message-file {message_file}: {exc.strerror}") from None
     else:
         payload = message.encode("utf-8")
-    _check_common(tolerance, level)
     k = _key(key, key_file)
     mesh, fmt = read_mesh(inp, return_info=True)
     kw = dict(tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=precision, levels=level)
