@@ -9,13 +9,11 @@ from __future__ import annotations
 
 import math
 import pathlib
-import sys
 import time
 
 import numpy as np
 
 from .._core import MeshError
-from ..mesh import Mesh
 from . import classifiers as clf
 from .features import features as compute_features
 
