@@ -190,5 +190,7 @@ def test_cli_train_detect_evaluate(tmp_path):
     assert x.returncode == 2 and "other covers" in x.stderr
     x = run("detect", str(covers / "vhacd_pig.off"), "--json")  # the shipped default model
     d = json.loads(x.stdout)
-    assert x.returncode in (0, 1) and "cho-mean" in d["methods"] and d["feature_set"] == "yang208+lfs76s+nvt36s"
-    assert d["verdict"] in ("marked", "no evidence", "cannot judge") and x.returncode == (0 if d["marked"] else 1)
+    # a clean cover: probability ~0.71 against the threshold 0.990, in the model's domain -> exit 1
+    assert x.returncode == 1 and "cho-mean" in d["methods"] and d["feature_set"] == "yang208+lfs76s+nvt36s"
+    assert (d["verdict"], d["marked"], d["in_domain"]) == ("no evidence", False, True)
+    assert d["probability"] < d["threshold"] - 0.1
