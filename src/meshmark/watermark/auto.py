@@ -59,14 +59,17 @@ def _n_referenced(mesh) -> int:
     return int(mesh.referenced().sum())
 
 
-def _evaluate(mesh, m, given: dict):
+def _evaluate(mesh, m, given: dict, move_K=None):
     """Yield (rung index, params, ids, side) for the method's ladder, resolving lazily; rungs the
-    mesh cannot take (e.g. fewer vertices than bins) are skipped; MeshError if none can."""
+    mesh cannot take (e.g. fewer vertices than bins) are skipped; MeshError if none can.
+    ``move_K(K)``: the bin count each rung uses instead of its own (key-dependent bins, keys.key_bins)."""
     n_ref = _n_referenced(mesh)
     first_error = None
     any_ok = False
     for i, rung in enumerate(LADDERS.get(m.name, [None])):
         q = {} if rung is None else _rung_params(m.name, rung, n_ref)
+        if move_K is not None and "K" in q:
+            q["K"] = move_K(q["K"])
         q.update({k: v for k, v in given.items() if v is not None})
         try:
             p = m.resolve(mesh, q)
@@ -81,12 +84,13 @@ def _evaluate(mesh, m, given: dict):
         raise first_error
 
 
-def choose(mesh, m, params, method_params: dict, n_data, need: int = None):
+def choose(mesh, m, params, method_params: dict, n_data, need: int = None, move_K=None):
     """(params, carrier ids, side info, choice record) for method ``m`` on ``mesh``.
 
     ``params``: "auto", "thesis", or a dict of explicit parameters (merged with ``method_params``);
     ``n_data``: payload bits (None: no payload yet, auto returns the first rung); ``need``: the
-    carriers wanted, instead of those the payload needs (copy tracing)."""
+    carriers wanted, instead of those the payload needs (copy tracing); ``move_K``: see
+    :func:`_evaluate` (auto only: every rung's K is moved, then the first that fits is chosen)."""
     given = dict(method_params)
     if isinstance(params, dict):
         given.update(params)
@@ -102,7 +106,7 @@ def choose(mesh, m, params, method_params: dict, n_data, need: int = None):
     if need is None:
         need = None if n_data is None else coding.min_carriers(n_data)
     best, largest, rule = None, None, 1
-    for cand in _evaluate(mesh, m, given):
+    for cand in _evaluate(mesh, m, given, move_K):
         if need is None or len(cand[2]) >= need:
             best = cand
             break
@@ -112,7 +116,8 @@ def choose(mesh, m, params, method_params: dict, n_data, need: int = None):
         best, rule = largest, 2
     i, p, ids, side = best
     return p, ids, side, {"mode": "auto", "ladder": "v1", "rung": int(i), "rule": rule,
-                          "needed_carriers": need, "capacity": int(len(ids))}
+                          "needed_carriers": need, "capacity": int(len(ids)),
+                          **({"key_bins": True} if move_K is not None else {})}
 
 
 # What the automatic choice falls back to, per method, when no rung of the default carrier takes the
@@ -120,7 +125,7 @@ def choose(mesh, m, params, method_params: dict, n_data, need: int = None):
 FALLBACK_PARAMS = {"laplacian": {"carrier": "thesis"}}
 
 
-def fallbacks(mesh, m, method_params: dict, choice: dict):
+def fallbacks(mesh, m, method_params: dict, choice: dict, move_K=None):
     """What to try, in turn, when the chosen rung's mark does not take on the mesh (rare; e.g. many
     small parts of 36-gons): the later rungs that also fit the payload, then (if the user did not
     choose it) the method's fallback carrier (:data:`FALLBACK_PARAMS`) with its own ladder. Each item is
@@ -134,7 +139,7 @@ def fallbacks(mesh, m, method_params: dict, choice: dict):
     if alt and all(method_params.get(k) is None for k in alt):
         plans.append(({**method_params, **alt}, 0))
     for given, first in plans:
-        for i, p, ids, side in _evaluate(mesh, m, given):
+        for i, p, ids, side in _evaluate(mesh, m, given, move_K):
             if i >= first and (need is None or len(ids) >= need):
                 yield p, ids, side, {**choice, "rung": int(i), "capacity": int(len(ids)),
                                      "fallback_from": start, **({"fallback": alt} if given.keys() - method_params.keys() else {})}

@@ -228,13 +228,16 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     mesh = w.mesh if w is not None else mesh_in
     report(0.05, "finding carriers")
     from .auto import choose
+    move_K = None
     if key_bins:
-        if method_params.get("K") is not None:
+        if method_params.get("K") is not None or (isinstance(params, dict) and params.get("K") is not None):
             raise MeshError("key_bins chooses the bin count K from the key: do not give K as well")
-        p0, _, _, _ = choose(mesh, m, "thesis", method_params, pl.data.size)
-        method_params = {**method_params, "K": _keys.key_bins(key, method, int(p0["K"]))}
-        params = "thesis" if params == "auto" else params
-    p, ids, side, choice = choose(mesh, m, params, method_params, pl.data.size)
+        if params == "auto":  # every rung of the automatic ladder gets its K moved, then first fit
+            move_K = lambda K: _keys.key_bins(key, method, int(K))  # noqa: E731
+        else:  # published (or given) parameters: their K moved
+            p0, _, _, _ = choose(mesh, m, params, method_params, pl.data.size)
+            method_params = {**method_params, "K": _keys.key_bins(key, method, int(p0["K"]))}
+    p, ids, side, choice = choose(mesh, m, params, method_params, pl.data.size, move_K=move_K)
     cap = int(len(ids))
     if cap < MIN_CARRIERS:
         raise MeshError(f"the mesh offers only {cap} carrier bits to the {method} method with {m.describe(p)}; "
@@ -246,7 +249,7 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
                         f"bits at code rate 2/3) but the mesh offers {cap} with the {method} method ({m.describe(p)}); "
                         f"at most {_coding.max_data_bits(cap)} payload bits fit")
     from .auto import fallbacks
-    later = fallbacks(mesh, m, method_params, choice)
+    later = fallbacks(mesh, m, method_params, choice, move_K)
     while True:
         coded, white, order = _expected(pl, key, method, cap, _coding.scheme_for(pl.data.size))
         channel = coded ^ white
