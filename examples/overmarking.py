@@ -1,19 +1,19 @@
 """Overmarking (issue 11, docs/security.md): a second embedder marks an already marked mesh with the
 public tool and another key. Does the owner's mark survive?
 
-For Bunny, Horse and Hand x the four methods: the owner embeds 5 bits (21 framed: Hand offers only 21
-Laplacian carriers) under key A; the attacker
-re-embeds the marked mesh with the same method, default parameters, key B and other bits; the
-owner's keyfile is then extracted from the overmarked mesh. Printed (and written to CSV): whether the
-owner's mark is still detected (P(false alarm) < 1e-6), its bit agreement (CDR), whether the message
-still decodes, and the distortion of each embedding (vertex RMSE / bounding-box diagonal), so the
-attacker's cost can be compared with the owner's.
+For Bunny, Horse, Hand and Cow x the four methods: the owner embeds the 4-byte text "OWN1" (32 bits)
+under key A; the attacker re-embeds the marked mesh with the same method, automatic parameters, key B
+and the text "LEAK"; the owner's keyfile is then extracted from the overmarked mesh. Printed (and
+written to CSV): whether the owner's mark is still detected (P(false alarm) < 1e-6), its bit
+agreement (CDR), whether the owner's message still decodes to "OWN1", and the distortion of each
+embedding (vertex RMSE / bounding-box diagonal), so the attacker's cost can be compared with the owner's.
 
     .venv/bin/python examples/overmarking.py [--out out/overmarking.csv] [--attackers 3] [--quick]
+        [--owner-key-bins] [--attacker-key-bins]     # key-dependent bin placement (docs/security.md §5)
+        [--bits 10110]                               # a bit string instead of the 4-byte texts
 
 Parameters: each method's automatic ones (``params="auto"``), keys "owner-key-A" / "attacker-key-N".
 ``--quick``: the Hand only, one attacker.
-        [--owner-key-bins] [--attacker-key-bins]     # key-dependent bin placement (docs/security.md §5)
 """
 import argparse
 import sys
@@ -25,21 +25,31 @@ import meshmark
 import meshmark.watermark as W
 from meshmark.metrics import vertex_rmse
 
+from meshmark.watermark.payload import Payload
+
 from _common import SHARED, write_csv
 
-MESHES = ["classic/bunny.obj", "classic/horse.ply", "classic/hand.obj"]
+MESHES = ["classic/bunny.obj", "classic/horse.ply", "classic/hand.obj", "classic/cow.obj"]
 METHODS = ["laplacian", "cho-mean", "cho-variance", "radial"]
 
 
-def run(meshes=MESHES, methods=METHODS, attackers=3, owner_key_bins=False, attacker_key_bins=False):
+def _payloads(bits):
+    """(owner's, attacker's) payloads: the texts OWN1 / LEAK, or ``bits`` and its complement."""
+    if bits is None:
+        return Payload.from_text("OWN1"), Payload.from_text("LEAK")
+    return Payload.from_bits(bits), Payload.from_bits(bits.translate(str.maketrans("01", "10")))
+
+
+def run(meshes=MESHES, methods=METHODS, attackers=3, owner_key_bins=False, attacker_key_bins=False, bits=None):
     rows = []
+    mine, theirs = _payloads(bits)
     for rel in meshes:
         m = meshmark.read_mesh(SHARED / rel)
         diag = float(np.linalg.norm(m.V.max(0) - m.V.min(0)))
         for method in methods:
             t0 = time.time()
             try:
-                own = W.embed(m, payload=[1, 0, 1, 1, 0], key="owner-key-A", method=method, key_bins=owner_key_bins)
+                own = W.embed(m, payload=mine, key="owner-key-A", method=method, key_bins=owner_key_bins)
             except meshmark.MeshError as exc:
                 rows.append({"mesh": rel, "method": method, "error": str(exc)[:120]})
                 continue
@@ -47,7 +57,7 @@ def run(meshes=MESHES, methods=METHODS, attackers=3, owner_key_bins=False, attac
             base = W.extract(marked, keyfile=own.keyfile)
             for a in range(attackers):
                 try:
-                    att = W.embed(marked, payload=[0, 1, 0, 0, 1], key=f"attacker-key-{a}", method=method,
+                    att = W.embed(marked, payload=theirs, key=f"attacker-key-{a}", method=method,
                                   key_bins=attacker_key_bins)
                 except meshmark.MeshError as exc:
                     rows.append({"mesh": rel, "method": method, "attacker": a, "error": str(exc)[:120]})
@@ -61,12 +71,14 @@ def run(meshes=MESHES, methods=METHODS, attackers=3, owner_key_bins=False, attac
                     "owner_detected_before": base.detected,
                     "owner_detected_after": x.detected, "owner_cdr_after": round(x.cdr, 4),
                     "owner_p_after": x.p_false_alarm, "owner_message_ok_after": x.message_ok,
+                    "owner_message_after": x.message, "owner_message_right": x.message == mine.message(),
                     "attacker_detected": y.detected,
                     "owner_rmse_rel": vertex_rmse(m.V, own.V) / diag, "attacker_rmse_rel": vertex_rmse(own.V, att.V) / diag,
                     "error": "", "seconds": round(time.time() - t0, 2)})
             r = [x for x in rows if x.get("mesh") == rel and x.get("method") == method and not x.get("error")]
             if r:
                 print(f"{rel:22s} {method:13s} owner mark survives {sum(x['owner_detected_after'] for x in r)}/{len(r)}"
+                      f" message right {sum(x['owner_message_right'] for x in r)}/{len(r)}"
                       f"  CDR {np.mean([x['owner_cdr_after'] for x in r]):.3f}  attacker detected "
                       f"{sum(x['attacker_detected'] for x in r)}/{len(r)}  RMSE/diag owner "
                       f"{r[0]['owner_rmse_rel']:.2e} attacker {np.mean([x['attacker_rmse_rel'] for x in r]):.2e}",
@@ -80,10 +92,12 @@ def main():
     ap.add_argument("--attackers", type=int, default=3)
     ap.add_argument("--owner-key-bins", action="store_true", help="the owner embeds with key_bins=True")
     ap.add_argument("--attacker-key-bins", action="store_true", help="the attackers embed with key_bins=True")
+    ap.add_argument("--bits", help="embed this bit string (the attackers its complement) instead of OWN1 / LEAK")
+    ap.add_argument("--meshes", nargs="+", default=MESHES, help="meshes under /work/shared/meshes")
     ap.add_argument("--quick", action="store_true", help="the Hand only, one attacker (the test suite runs it)")
     a = ap.parse_args()
-    rows = run(meshes=["classic/hand.obj"] if a.quick else MESHES, attackers=1 if a.quick else a.attackers,
-               owner_key_bins=a.owner_key_bins, attacker_key_bins=a.attacker_key_bins)
+    rows = run(meshes=["classic/hand.obj"] if a.quick else a.meshes, attackers=1 if a.quick else a.attackers,
+               owner_key_bins=a.owner_key_bins, attacker_key_bins=a.attacker_key_bins, bits=a.bits)
     ok = [r for r in rows if not r.get("error")]
     survived = sum(r["owner_detected_after"] for r in ok)
     cases = {(r["mesh"], r["method"]) for r in ok}

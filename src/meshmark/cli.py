@@ -231,8 +231,9 @@ def _progress_bar(as_json: bool):
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Where to write the keyfile (JSON).")
 @click.option("--force", is_flag=True, default=False, help="Overwrite an existing marked mesh and keyfile.")
 @click.option("--key-bins", "key_bins", is_flag=True, default=False,
-              help="Move the published bin count K by a key-derived 3-12 % so another embedder's bins do not align "
-                   "with yours (the mark survives overmarking more often; docs/security.md).")
+              help="Move the bin count K (of the automatic or the published parameters) by a key-derived 3-12 % so "
+                   "another embedder's bins do not align with yours: your mark then survives most re-embeddings "
+                   "by someone else (overmarking; docs/security.md).")
 @click.option("--store-key/--no-store-key", "store_key", default=True, show_default=True,
               help="Keep the key in the keyfile; with --no-store-key, extract needs --key (or asks for it).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")

@@ -211,10 +211,12 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     fit (the message states the capacity in bits).
     ``progress(fraction, text)`` is called as the work advances, if given. With ``store_key=False``
     the written keyfile leaves the key out (extraction then needs ``key=``). With ``key_bins=True``
-    (and no ``K`` given) the method's default bin count is moved by a key-derived 3-12 %
-    (:func:`.keys.key_bins`, published parameters only), so a second embedder with another key uses
-    misaligned bins and the first mark survives overmarking more often (docs/security.md §5); the K
-    used is in the keyfile.
+    (and no ``K`` given) the bin count is moved by a key-derived 3-12 % (:func:`.keys.key_bins`):
+    with ``params="auto"`` every rung of the ladder's K, then the first rung that fits is chosen;
+    with ``"thesis"`` (or a dict) the published K. A second embedder with another key then uses
+    misaligned bins and the first mark survives overmarking in most cases (docs/security.md §5); the
+    K used is in the keyfile (and ``choice["key_bins"]``), so extraction is unchanged. Off by
+    default (docs/security.md §5 says why).
     """
     report = progress or (lambda f, t: None)
     mesh_in = as_mesh(V, F)
