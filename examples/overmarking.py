@@ -13,7 +13,11 @@ embedding (vertex RMSE / bounding-box diagonal), so the attacker's cost can be c
         [--bits 10110]                               # a bit string instead of the 4-byte texts
 
 Parameters: each method's automatic ones (``params="auto"``), keys "owner-key-A" / "attacker-key-N".
+``--owners N``: N owner keys, each marking its own copy (the key decides the owner's bins).
 ``--quick``: the Hand only, one attacker.
+``--cost``: no overmarking; what key bins cost the owner's own mark: for each mesh x method and the
+``--owners`` keys, with and without key bins, the distortion and the CDR (and decoded messages) after
+uniform noise of 0.002 x the mean centroid distance (2 seeds) and 10-bit quantization.
 """
 import argparse
 import sys
@@ -23,6 +27,7 @@ import numpy as np
 
 import meshmark
 import meshmark.watermark as W
+from meshmark.attacks.basic import noise, quantize
 from meshmark.metrics import vertex_rmse
 
 from meshmark.watermark.payload import Payload
@@ -40,41 +45,50 @@ def _payloads(bits):
     return Payload.from_bits(bits), Payload.from_bits(bits.translate(str.maketrans("01", "10")))
 
 
-def run(meshes=MESHES, methods=METHODS, attackers=3, owner_key_bins=False, attacker_key_bins=False, bits=None):
+def _attacks(m, diag, rel, method, owner_key, mine, theirs, attackers, owner_key_bins, attacker_key_bins):
+    """The rows of one owner's mark overmarked by each attacker in turn (each on the owner's copy)."""
+    t0 = time.time()
+    try:
+        own = W.embed(m, payload=mine, key=owner_key, method=method, key_bins=owner_key_bins)
+    except meshmark.MeshError as exc:
+        return [{"mesh": rel, "method": method, "owner": owner_key, "error": str(exc)[:120]}]
+    marked = m.with_vertices(own.V)
+    base = W.extract(marked, keyfile=own.keyfile)
+    rows = []
+    for a in range(attackers):
+        try:
+            att = W.embed(marked, payload=theirs, key=f"attacker-key-{a}", method=method, key_bins=attacker_key_bins)
+        except meshmark.MeshError as exc:
+            rows.append({"mesh": rel, "method": method, "owner": owner_key, "attacker": a, "error": str(exc)[:120]})
+            continue
+        over = m.with_vertices(att.V)
+        x = W.extract(over, keyfile=own.keyfile)
+        y = W.extract(over, keyfile=att.keyfile)
+        rows.append({
+            "mesh": rel, "method": method, "owner": owner_key, "attacker": a, "carriers": own.capacity,
+            "owner_K": own.keyfile.params["K"], "attacker_K": att.keyfile.params["K"],
+            "owner_detected_before": base.detected,
+            "owner_detected_after": x.detected, "owner_cdr_after": round(x.cdr, 4),
+            "owner_p_after": x.p_false_alarm, "owner_message_ok_after": x.message_ok,
+            "owner_message_after": x.message, "owner_message_right": x.message == mine.message(),
+            "attacker_detected": y.detected,
+            "owner_rmse_rel": vertex_rmse(m.V, own.V) / diag, "attacker_rmse_rel": vertex_rmse(own.V, att.V) / diag,
+            "error": "", "seconds": round(time.time() - t0, 2)})
+    return rows
+
+
+def run(meshes=MESHES, methods=METHODS, attackers=3, owner_key_bins=False, attacker_key_bins=False, bits=None,
+        owners=1):
+    """Rows for every mesh x method x owner key ("owner-key-A", "-B", ...) x attacker."""
     rows = []
     mine, theirs = _payloads(bits)
     for rel in meshes:
         m = meshmark.read_mesh(SHARED / rel)
         diag = float(np.linalg.norm(m.V.max(0) - m.V.min(0)))
         for method in methods:
-            t0 = time.time()
-            try:
-                own = W.embed(m, payload=mine, key="owner-key-A", method=method, key_bins=owner_key_bins)
-            except meshmark.MeshError as exc:
-                rows.append({"mesh": rel, "method": method, "error": str(exc)[:120]})
-                continue
-            marked = m.with_vertices(own.V)
-            base = W.extract(marked, keyfile=own.keyfile)
-            for a in range(attackers):
-                try:
-                    att = W.embed(marked, payload=theirs, key=f"attacker-key-{a}", method=method,
-                                  key_bins=attacker_key_bins)
-                except meshmark.MeshError as exc:
-                    rows.append({"mesh": rel, "method": method, "attacker": a, "error": str(exc)[:120]})
-                    continue
-                over = m.with_vertices(att.V)
-                x = W.extract(over, keyfile=own.keyfile)
-                y = W.extract(over, keyfile=att.keyfile)
-                rows.append({
-                    "mesh": rel, "method": method, "attacker": a, "carriers": own.capacity,
-                    "owner_K": own.keyfile.params["K"], "attacker_K": att.keyfile.params["K"],
-                    "owner_detected_before": base.detected,
-                    "owner_detected_after": x.detected, "owner_cdr_after": round(x.cdr, 4),
-                    "owner_p_after": x.p_false_alarm, "owner_message_ok_after": x.message_ok,
-                    "owner_message_after": x.message, "owner_message_right": x.message == mine.message(),
-                    "attacker_detected": y.detected,
-                    "owner_rmse_rel": vertex_rmse(m.V, own.V) / diag, "attacker_rmse_rel": vertex_rmse(own.V, att.V) / diag,
-                    "error": "", "seconds": round(time.time() - t0, 2)})
+            for o in range(owners):
+                rows += _attacks(m, diag, rel, method, f"owner-key-{chr(65 + o)}", mine, theirs, attackers,
+                                 owner_key_bins, attacker_key_bins)
             r = [x for x in rows if x.get("mesh") == rel and x.get("method") == method and not x.get("error")]
             if r:
                 print(f"{rel:22s} {method:13s} owner mark survives {sum(x['owner_detected_after'] for x in r)}/{len(r)}"
@@ -86,18 +100,51 @@ def run(meshes=MESHES, methods=METHODS, attackers=3, owner_key_bins=False, attac
     return rows
 
 
+def cost(meshes=MESHES, methods=METHODS, owners=5):
+    """Rows: per mesh x method x key bins off/on, the owner's distortion and robustness (means over keys)."""
+    rows = []
+    mine, _ = _payloads(None)
+    for rel in meshes:
+        m = meshmark.read_mesh(SHARED / rel)
+        diag = float(np.linalg.norm(m.V.max(0) - m.V.min(0)))
+        for method in methods:
+            for kb in (False, True):
+                rmse, cdr_noise, ok_noise, cdr_quant = [], [], 0, []
+                for o in range(owners):
+                    r = W.embed(m, payload=mine, key=f"owner-key-{chr(65 + o)}", method=method, key_bins=kb)
+                    rmse.append(vertex_rmse(m.V, r.V) / diag)
+                    for seed in range(2):
+                        x = W.extract(noise(r.V, m, strength=0.002, seed=seed), keyfile=r.keyfile)
+                        cdr_noise.append(x.cdr)
+                        ok_noise += x.message == mine.message()
+                    cdr_quant.append(W.extract(quantize(r.V, m, bits=10), keyfile=r.keyfile).cdr)
+                rows.append({"mesh": rel, "method": method, "key_bins": kb, "rmse_rel": float(np.mean(rmse)),
+                             "noise_cdr": round(float(np.mean(cdr_noise)), 4), "noise_messages": ok_noise,
+                             "noise_attacks": 2 * owners, "quant10_cdr": round(float(np.mean(cdr_quant)), 4)})
+                print(f"{rel:22s} {method:13s} key bins {'on ' if kb else 'off'} RMSE/diag {rows[-1]['rmse_rel']:.2e}"
+                      f"  noise CDR {rows[-1]['noise_cdr']:.3f} messages {ok_noise}/{2 * owners}"
+                      f"  quant10 CDR {rows[-1]['quant10_cdr']:.3f}", flush=True)
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="out/overmarking.csv")
     ap.add_argument("--attackers", type=int, default=3)
+    ap.add_argument("--owners", type=int, default=1, help="owner keys owner-key-A, -B, ... (each its own mark)")
     ap.add_argument("--owner-key-bins", action="store_true", help="the owner embeds with key_bins=True")
     ap.add_argument("--attacker-key-bins", action="store_true", help="the attackers embed with key_bins=True")
     ap.add_argument("--bits", help="embed this bit string (the attackers its complement) instead of OWN1 / LEAK")
     ap.add_argument("--meshes", nargs="+", default=MESHES, help="meshes under /work/shared/meshes")
     ap.add_argument("--quick", action="store_true", help="the Hand only, one attacker (the test suite runs it)")
+    ap.add_argument("--cost", action="store_true", help="what key bins cost the owner's own mark (no overmarking)")
     a = ap.parse_args()
+    if a.cost:
+        print("wrote", write_csv(cost(meshes=a.meshes, owners=a.owners), a.out))
+        return 0
     rows = run(meshes=["classic/hand.obj"] if a.quick else a.meshes, attackers=1 if a.quick else a.attackers,
-               owner_key_bins=a.owner_key_bins, attacker_key_bins=a.attacker_key_bins, bits=a.bits)
+               owner_key_bins=a.owner_key_bins, attacker_key_bins=a.attacker_key_bins, bits=a.bits,
+               owners=a.owners)
     ok = [r for r in rows if not r.get("error")]
     survived = sum(r["owner_detected_after"] for r in ok)
     cases = {(r["mesh"], r["method"]) for r in ok}
