@@ -77,26 +77,36 @@ def _attacks(m, diag, rel, method, owner_key, mine, theirs, attackers, owner_key
     return rows
 
 
+def _cases(meshes, methods):
+    """(mesh path, mesh, bounding-box diagonal, method) for every mesh x method."""
+    for rel in meshes:
+        m = meshmark.read_mesh(SHARED / rel)
+        diag = float(np.linalg.norm(m.V.max(0) - m.V.min(0)))
+        for method in methods:
+            yield rel, m, diag, method
+
+
+def _owner_key(o: int) -> str:
+    return f"owner-key-{chr(65 + o)}"
+
+
 def run(meshes=MESHES, methods=METHODS, attackers=3, owner_key_bins=False, attacker_key_bins=False, bits=None,
         owners=1):
     """Rows for every mesh x method x owner key ("owner-key-A", "-B", ...) x attacker."""
     rows = []
     mine, theirs = _payloads(bits)
-    for rel in meshes:
-        m = meshmark.read_mesh(SHARED / rel)
-        diag = float(np.linalg.norm(m.V.max(0) - m.V.min(0)))
-        for method in methods:
-            for o in range(owners):
-                rows += _attacks(m, diag, rel, method, f"owner-key-{chr(65 + o)}", mine, theirs, attackers,
-                                 owner_key_bins, attacker_key_bins)
-            r = [x for x in rows if x.get("mesh") == rel and x.get("method") == method and not x.get("error")]
-            if r:
-                print(f"{rel:22s} {method:13s} owner mark survives {sum(x['owner_detected_after'] for x in r)}/{len(r)}"
-                      f" message right {sum(x['owner_message_right'] for x in r)}/{len(r)}"
-                      f"  CDR {np.mean([x['owner_cdr_after'] for x in r]):.3f}  attacker detected "
-                      f"{sum(x['attacker_detected'] for x in r)}/{len(r)}  RMSE/diag owner "
-                      f"{r[0]['owner_rmse_rel']:.2e} attacker {np.mean([x['attacker_rmse_rel'] for x in r]):.2e}",
-                      flush=True)
+    for rel, m, diag, method in _cases(meshes, methods):
+        for o in range(owners):
+            rows += _attacks(m, diag, rel, method, _owner_key(o), mine, theirs, attackers,
+                             owner_key_bins, attacker_key_bins)
+        r = [x for x in rows if x.get("mesh") == rel and x.get("method") == method and not x.get("error")]
+        if r:
+            print(f"{rel:22s} {method:13s} owner mark survives {sum(x['owner_detected_after'] for x in r)}/{len(r)}"
+                  f" message right {sum(x['owner_message_right'] for x in r)}/{len(r)}"
+                  f"  CDR {np.mean([x['owner_cdr_after'] for x in r]):.3f}  attacker detected "
+                  f"{sum(x['attacker_detected'] for x in r)}/{len(r)}  RMSE/diag owner "
+                  f"{r[0]['owner_rmse_rel']:.2e} attacker {np.mean([x['attacker_rmse_rel'] for x in r]):.2e}",
+                  flush=True)
     return rows
 
 
@@ -104,26 +114,23 @@ def cost(meshes=MESHES, methods=METHODS, owners=5):
     """Rows: per mesh x method x key bins off/on, the owner's distortion and robustness (means over keys)."""
     rows = []
     mine, _ = _payloads(None)
-    for rel in meshes:
-        m = meshmark.read_mesh(SHARED / rel)
-        diag = float(np.linalg.norm(m.V.max(0) - m.V.min(0)))
-        for method in methods:
-            for kb in (False, True):
-                rmse, cdr_noise, ok_noise, cdr_quant = [], [], 0, []
-                for o in range(owners):
-                    r = W.embed(m, payload=mine, key=f"owner-key-{chr(65 + o)}", method=method, key_bins=kb)
-                    rmse.append(vertex_rmse(m.V, r.V) / diag)
-                    for seed in range(2):
-                        x = W.extract(noise(r.V, m, strength=0.002, seed=seed), keyfile=r.keyfile)
-                        cdr_noise.append(x.cdr)
-                        ok_noise += x.message == mine.message()
-                    cdr_quant.append(W.extract(quantize(r.V, m, bits=10), keyfile=r.keyfile).cdr)
-                rows.append({"mesh": rel, "method": method, "key_bins": kb, "rmse_rel": float(np.mean(rmse)),
-                             "noise_cdr": round(float(np.mean(cdr_noise)), 4), "noise_messages": ok_noise,
-                             "noise_attacks": 2 * owners, "quant10_cdr": round(float(np.mean(cdr_quant)), 4)})
-                print(f"{rel:22s} {method:13s} key bins {'on ' if kb else 'off'} RMSE/diag {rows[-1]['rmse_rel']:.2e}"
-                      f"  noise CDR {rows[-1]['noise_cdr']:.3f} messages {ok_noise}/{2 * owners}"
-                      f"  quant10 CDR {rows[-1]['quant10_cdr']:.3f}", flush=True)
+    for rel, m, diag, method in _cases(meshes, methods):
+        for kb in (False, True):
+            rmse, cdr_noise, ok_noise, cdr_quant = [], [], 0, []
+            for o in range(owners):
+                r = W.embed(m, payload=mine, key=_owner_key(o), method=method, key_bins=kb)
+                rmse.append(vertex_rmse(m.V, r.V) / diag)
+                for seed in range(2):
+                    x = W.extract(noise(r.V, m, strength=0.002, seed=seed), keyfile=r.keyfile)
+                    cdr_noise.append(x.cdr)
+                    ok_noise += x.message == mine.message()
+                cdr_quant.append(W.extract(quantize(r.V, m, bits=10), keyfile=r.keyfile).cdr)
+            rows.append({"mesh": rel, "method": method, "key_bins": kb, "rmse_rel": float(np.mean(rmse)),
+                         "noise_cdr": round(float(np.mean(cdr_noise)), 4), "noise_messages": ok_noise,
+                         "noise_attacks": 2 * owners, "quant10_cdr": round(float(np.mean(cdr_quant)), 4)})
+            print(f"{rel:22s} {method:13s} key bins {'on ' if kb else 'off'} RMSE/diag {rows[-1]['rmse_rel']:.2e}"
+                  f"  noise CDR {rows[-1]['noise_cdr']:.3f} messages {ok_noise}/{2 * owners}"
+                  f"  quant10 CDR {rows[-1]['quant10_cdr']:.3f}", flush=True)
     return rows
 
 
