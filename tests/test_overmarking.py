@@ -11,6 +11,7 @@ import pytest
 import meshmark
 import meshmark.watermark as W
 from meshmark import MeshError
+from meshmark.watermark.coding import max_data_bits
 from meshmark.watermark.keys import key_bins
 from meshmark.watermark.payload import Payload
 
@@ -93,3 +94,24 @@ def test_key_bins_laplacian_auto_cli(tmp_path):
     x = W.extract(over, keyfile=own.keyfile)
     assert x.detected and round(x.cdr, 4) == 0.7426
     assert not W.extract(over, keyfile=own.keyfile, key="not-the-owner").detected
+
+
+def test_capacity_with_key_bins_is_what_embed_uses(tmp_path):
+    """capacity(key_bins=True, key=...) and `meshmark capacity --key-bins --key` report the bins and
+    carriers embed --key-bins uses with that key (Cho-variance, auto: 128 bins moved to 143)."""
+    m = meshmark.read_mesh(shared_mesh("classic/bunny.obj"))
+    r = W.embed(m, payload=Payload.from_text("OWN1"), key="owner-key-A", method="cho-variance", key_bins=True)
+    assert r.keyfile.params["K"] == r.capacity == 143
+    assert W.capacity(m, method="cho-variance", n_data=32, key="owner-key-A", key_bins=True) == 143
+    assert W.capacity(m, method="cho-variance", n_data=32) == 128
+    with pytest.raises(MeshError, match="the key must be a non-empty string"):
+        W.capacity(m, method="cho-variance", key_bins=True)
+    run = lambda *a: subprocess.run([sys.executable, "-m", "meshmark", "capacity", str(shared_mesh("classic/bunny.obj")),
+                                     "--method", "cho-variance", "--json", *a], capture_output=True, text=True)
+    plain, kb = json.loads(run().stdout), json.loads(run("--key-bins", "--key", "owner-key-A").stdout)
+    assert plain["params"]["K"] == plain["capacity"] == 64 and plain["key_bins"] is False  # the first rung
+    assert kb["params"]["K"] == kb["capacity"] == key_bins("owner-key-A", "cho-variance", 64) and kb["key_bins"] is True
+    assert kb["thesis"] == plain["thesis"]  # the published figures stay the published ones
+    assert kb["auto"]["max_message_bits"] == max_data_bits(143) == 75  # the longest: the 128-bin rung, moved
+    bad = run("--key-bins")
+    assert bad.returncode == 2 and "--key-bins needs --key" in bad.stderr

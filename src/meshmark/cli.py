@@ -321,34 +321,40 @@ def extract(inp, keyfile, key, as_json):
 @main.command()
 @click.argument("inp", metavar="IN")
 @_method_options
+@click.option("--key-bins", "key_bins", is_flag=True, default=False,
+              help="The bins embed --key-bins uses with --key (the capacity then depends on the key).")
+@click.option("--key", default=None, help="The key, with --key-bins.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-def capacity(inp, method, as_json, params_mode, **method_params):
+def capacity(inp, method, key_bins, key, as_json, params_mode, **method_params):
     """How many carrier bits IN offers to a method and the longest message that fits, with the
     parameters of --params (auto, the default, as in the Python API's capacity(); or thesis), and the
-    longest message under each of the two."""
+    longest message under each of the two. With --key-bins and --key: the key-dependent bins of
+    embed --key-bins (the thesis figures stay the published ones)."""
     from . import read_mesh, weld_vertices
     from .watermark import METHODS
     from .watermark.auto import choose, longest_payload_bits
     from .watermark.coding import max_data_bits
+    from .watermark.framework import moved_bins
     from .watermark.payload import MAX_DATA_BITS
 
+    if key_bins and key is None:
+        raise MeshError("--key-bins needs --key: the bins depend on the key")
     params = _params(**method_params)  # ranges checked before the mesh is read
     mesh = read_mesh(inp)
     m = METHODS[method]
     weld = params.pop("weld")
     if weld:
         mesh = weld_vertices(mesh).mesh
-    p, ids, _, _ = choose(mesh, m, params_mode, params, None)  # = watermark.capacity(params=params_mode)
+    move_K, given = moved_bins(mesh, m, params_mode, params, key, key_bins)
+    p, ids, _, _ = choose(mesh, m, params_mode, given, None, move_K=move_K)  # = watermark.capacity(params=...)
     cap = int(len(ids))
-    if params_mode == "thesis":
-        thesis_p, thesis_cap = p, cap
-    else:
-        thesis_p, ids_t, _, _ = choose(mesh, m, "thesis", params, None)
-        thesis_cap = int(len(ids_t))
+    thesis_p, ids_t, _, _ = choose(mesh, m, "thesis", params, None)
+    thesis_cap = int(len(ids_t))
     thesis_fit = min(max_data_bits(thesis_cap), MAX_DATA_BITS)
-    auto_fit = min(longest_payload_bits(mesh, m, params), MAX_DATA_BITS)
-    fit = thesis_fit if params_mode == "thesis" else auto_fit
-    d = {"input": inp, "method": method, "params_mode": params_mode, "params": p, "weld": weld,
+    auto_move = moved_bins(mesh, m, "auto", params, key, key_bins)[0]
+    auto_fit = min(longest_payload_bits(mesh, m, params, auto_move), MAX_DATA_BITS)
+    fit = min(max_data_bits(cap), MAX_DATA_BITS) if params_mode == "thesis" else auto_fit
+    d = {"input": inp, "method": method, "params_mode": params_mode, "params": p, "weld": weld, "key_bins": key_bins,
          "n_vertices": mesh.n_vertices, "capacity": cap, "max_message_bits": fit, "max_text_bytes": fit // 8,
          "thesis": {"params": thesis_p, "capacity": thesis_cap, "max_message_bits": thesis_fit,
                     "max_text_bytes": thesis_fit // 8},

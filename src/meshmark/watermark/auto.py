@@ -145,6 +145,7 @@ def fallbacks(mesh, m, method_params: dict, choice: dict, move_K=None):
                                      "fallback_from": start, **({"fallback": alt} if given.keys() - method_params.keys() else {})}
 
 
-def longest_payload_bits(mesh, m, method_params: dict) -> int:
+def longest_payload_bits(mesh, m, method_params: dict, move_K=None) -> int:
     """The longest payload (bits) ``params="auto"`` can embed: the largest over the ladder."""
-    return max((coding.max_data_bits(len(ids)) for _, _, ids, _ in _evaluate(mesh, m, dict(method_params))), default=0)
+    return max((coding.max_data_bits(len(ids)) for _, _, ids, _ in _evaluate(mesh, m, dict(method_params), move_K)),
+               default=0)

@@ -142,17 +142,37 @@ def _weld(mesh: Mesh, weld) -> Welded | None:
 
 
 def capacity(V, F=None, method: str = "laplacian", weld: bool = True, params="auto", n_data: int = None,
-             **method_params) -> int:
+             key=None, key_bins: bool = False, **method_params) -> int:
     """Number of carrier bits the mesh offers to ``method`` (before coding), on the welded mesh unless
     ``weld=False``: with the parameters ``params="auto"`` (the default) chooses for a payload of
     ``n_data`` bits (:mod:`.auto`; without ``n_data``, its first rung: the published numbers with the
-    method's default carrier), or with the published parameters and carrier (``params="thesis"``)."""
+    method's default carrier), or with the published parameters and carrier (``params="thesis"``).
+    With ``key_bins=True`` the bins are the ones :func:`embed` uses with that ``key`` (required)."""
     mesh = as_mesh(V, F)
     w = _weld(mesh, weld)
     mesh = w.mesh if w is not None else mesh
     from .auto import choose
-    _, ids, _, _ = choose(mesh, _method(method), params, method_params, n_data)
+    m = _method(method)
+    move_K, method_params = moved_bins(mesh, m, params, method_params, key, key_bins, n_data)
+    _, ids, _, _ = choose(mesh, m, params, method_params, n_data, move_K=move_K)
     return int(len(ids))
+
+
+def moved_bins(mesh: Mesh, m, params, method_params: dict, key, key_bins, n_data=None):
+    """(move_K, method_params) for key-dependent bins (:func:`.keys.key_bins`, docs/security.md §5):
+    with ``params="auto"`` a function moving every rung's K; otherwise the published (or given
+    parameters') K moved, in ``method_params``. (None, method_params) when ``key_bins`` is off."""
+    from ..ranges import check_bool
+    if not check_bool("key_bins", key_bins):
+        return None, method_params
+    key = _keys.check_key(key)
+    if method_params.get("K") is not None or (isinstance(params, dict) and params.get("K") is not None):
+        raise MeshError("key_bins chooses the bin count K from the key: do not give K as well")
+    if params == "auto":  # every rung of the automatic ladder gets its K moved, then first fit
+        return (lambda K: _keys.key_bins(key, m.name, int(K))), method_params
+    from .auto import choose
+    p0, _, _, _ = choose(mesh, m, params, method_params, n_data)  # published (or given) parameters
+    return None, {**method_params, "K": _keys.key_bins(key, m.name, int(p0["K"]))}
 
 
 def _coded(payload: Payload, key: str, method: str, n: int, scheme: str) -> np.ndarray:
@@ -215,7 +235,7 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     with ``params="auto"`` every rung of the ladder's K, then the first rung that fits is chosen;
     with ``"thesis"`` (or a dict) the published K. A second embedder with another key then uses
     misaligned bins and the first mark survives overmarking in most cases (docs/security.md §5); the
-    K used is in the keyfile (and ``choice["key_bins"]``), so extraction is unchanged. Off by
+    K used is in the keyfile (auto: also ``choice["key_bins"]``), so extraction is unchanged. Off by
     default (docs/security.md §5 says why).
     """
     report = progress or (lambda f, t: None)
@@ -230,15 +250,7 @@ def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress
     mesh = w.mesh if w is not None else mesh_in
     report(0.05, "finding carriers")
     from .auto import choose
-    move_K = None
-    if key_bins:
-        if method_params.get("K") is not None or (isinstance(params, dict) and params.get("K") is not None):
-            raise MeshError("key_bins chooses the bin count K from the key: do not give K as well")
-        if params == "auto":  # every rung of the automatic ladder gets its K moved, then first fit
-            move_K = lambda K: _keys.key_bins(key, method, int(K))  # noqa: E731
-        else:  # published (or given) parameters: their K moved
-            p0, _, _, _ = choose(mesh, m, params, method_params, pl.data.size)
-            method_params = {**method_params, "K": _keys.key_bins(key, method, int(p0["K"]))}
+    move_K, method_params = moved_bins(mesh, m, params, method_params, key, key_bins, pl.data.size)
     p, ids, side, choice = choose(mesh, m, params, method_params, pl.data.size, move_K=move_K)
     cap = int(len(ids))
     if cap < MIN_CARRIERS:
