@@ -45,6 +45,23 @@ def _payloads(bits):
     return Payload.from_bits(bits), Payload.from_bits(bits.translate(str.maketrans("01", "10")))
 
 
+def _alignment(m, own, marked, over, attacker_K):
+    """For the one-bit-per-bin methods (cho-*, radial): the share of the owner's carrier bins lying
+    at least 75 % inside one of the leaker's bins, and how often the owner's bin reads another bit
+    after the overmark there and elsewhere (docs/security.md §5, the beat of two bin grids)."""
+    kf = own.keyfile
+    if kf.method == "laplacian":  # carriers are bin pairs
+        return {}
+    M = W.METHODS[kf.method]
+    ids = np.asarray(kf.side_info["carriers"])
+    flipped = M.extract(marked, kf.params, kf.side_info, ids)[0] != M.extract(over, kf.params, kf.side_info, ids)[0]
+    lo, hi = ids * attacker_K / kf.params["K"], (ids + 1) * attacker_K / kf.params["K"]  # in leaker bins
+    j = np.floor(lo) + 1
+    aligned = np.maximum(np.minimum(hi, j) - lo, np.minimum(hi - j, 1.0)) / (hi - lo) >= 0.75
+    rate = lambda sel: round(float(flipped[sel].mean()), 4) if sel.any() else ""  # noqa: E731
+    return {"aligned_share": round(float(aligned.mean()), 4), "flip_aligned": rate(aligned), "flip_other": rate(~aligned)}
+
+
 def _attacks(m, diag, rel, method, owner_key, mine, theirs, attackers, owner_key_bins, attacker_key_bins):
     """The rows of one owner's mark overmarked by each attacker in turn (each on the owner's copy)."""
     t0 = time.time()
@@ -72,6 +89,8 @@ def _attacks(m, diag, rel, method, owner_key, mine, theirs, attackers, owner_key
             "owner_p_after": x.p_false_alarm, "owner_message_ok_after": x.message_ok,
             "owner_message_after": x.message, "owner_message_right": x.message == mine.message(),
             "attacker_detected": y.detected,
+            **{"aligned_share": "", "flip_aligned": "", "flip_other": "",
+               **_alignment(m, own, marked, over, att.keyfile.params["K"])},
             "owner_rmse_rel": vertex_rmse(m.V, own.V) / diag, "attacker_rmse_rel": vertex_rmse(own.V, att.V) / diag,
             "error": "", "seconds": round(time.time() - t0, 2)})
     return rows
