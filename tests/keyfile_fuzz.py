@@ -122,6 +122,12 @@ def _set(d, path, value):
 _DELETE = object()
 
 
+def edit(d: dict, dotted: str, value) -> dict:
+    """A copy of the keyfile dict ``d`` with the field at ``dotted`` (e.g. ``"params.alpha"``) set to
+    ``value``, or deleted when ``value`` is ``KeyError``."""
+    return _set(d, tuple(dotted.split(".")), _DELETE if value is KeyError else value)
+
+
 def _derived(v):
     """Values close to ``v``: off by one, scaled, as another type."""
     out = []

@@ -73,6 +73,16 @@ def _setup_cases(setup: dict):
     return out
 
 
+def _bytes_builder(data: bytes):
+    """builder(dir) -> path of a file ``r.sqlite`` in dir holding ``data``."""
+    def build(d):
+        p = os.path.join(d, "r.sqlite")
+        with open(p, "wb") as f:
+            f.write(data)
+        return p
+    return build
+
+
 def damaged_cases(good: bytes, setup: dict, n_carriers: int, seed: int = 0):
     """[(name, builder(dir) -> path)] of damaged meshmark registries made from ``good``."""
     rng = np.random.default_rng(seed)
@@ -81,12 +91,7 @@ def damaged_cases(good: bytes, setup: dict, n_carriers: int, seed: int = 0):
     cases = []
 
     def from_bytes(name, data):
-        def build(d):
-            p = os.path.join(d, "r.sqlite")
-            with open(p, "wb") as f:
-                f.write(data)
-            return p
-        cases.append((name, build))
+        cases.append((name, _bytes_builder(data)))
 
     def from_sql(name, sql, args=(), fix_checks=True):
         def build(d):
@@ -169,12 +174,7 @@ def foreign_cases():
     cases = []
 
     def raw(name, data):
-        def build(d):
-            p = os.path.join(d, "r.sqlite")
-            with open(p, "wb") as f:
-                f.write(data)
-            return p
-        cases.append((name, build))
+        cases.append((name, _bytes_builder(data)))
 
     def sqlite(name, script, wal=False):
         def build(d):

@@ -13,6 +13,7 @@ import meshmark.watermark as W
 from meshmark import MeshError
 from meshmark.shapes import default_mesh
 from meshmark.watermark.keyfile import KeyRequired, load_keyfile, save_keyfile, validate_keyfile_dict
+from keyfile_fuzz import edit
 
 
 @pytest.fixture(scope="module")
@@ -34,17 +35,6 @@ def _write(tmp_path, d, name="bad.json"):
     return p
 
 
-def _edit(d, dotted, value):
-    d = json.loads(json.dumps(d))
-    *head, last = dotted.split(".")
-    t = d
-    for h in head:
-        t = t[h]
-    if value is KeyError:
-        del t[last]
-    else:
-        t[last] = value
-    return d
 
 
 SCHEMA_CASES = [
@@ -70,7 +60,7 @@ SCHEMA_CASES = [
 @pytest.mark.parametrize("field,value,message", SCHEMA_CASES, ids=[f"{c[0]}={c[1]!r}"[:40] for c in SCHEMA_CASES])
 def test_schema(saved, tmp_path, marked, field, value, message):
     path, d = saved
-    bad = _write(tmp_path, _edit(d, field, value))
+    bad = _write(tmp_path, edit(d, field, value))
     with pytest.raises(MeshError, match=message) as e:
         W.extract(marked[1].V, marked[0], keyfile=bad)
     assert "Traceback" not in str(e.value)
@@ -84,7 +74,7 @@ def test_carrier_values(saved, tmp_path):
                      ([d["side_info"]["carriers"][1]] * n, "lists a carrier twice"),
                      ([10**6] * n, r"got 1000000")]:
         with pytest.raises(MeshError, match=msg):
-            load_keyfile(_write(tmp_path, _edit(d, "side_info.carriers", ids)))
+            load_keyfile(_write(tmp_path, edit(d, "side_info.carriers", ids)))
 
 
 @pytest.mark.parametrize("text,message", [
@@ -118,13 +108,13 @@ def test_tag_detects_changes(saved, tmp_path, marked):
     assert len(d["tag"]) == 64 and load_keyfile(path).key == "owner-key"
     # the attack the old unkeyed SHA-256 allowed: change the message and recompute the digest
     bits = "".join("1" if b == "0" else "0" for b in d["payload"]["bits"])
-    forged = _edit(_edit(d, "payload.bits", bits), "payload.sha256", hashlib.sha256(bits.encode()).hexdigest())
+    forged = edit(edit(d, "payload.bits", bits), "payload.sha256", hashlib.sha256(bits.encode()).hexdigest())
     validate_keyfile_dict(forged)  # passes the schema ...
     with pytest.raises(MeshError, match=r"was changed after it was written: its HMAC-SHA256 tag does not match"):
         load_keyfile(_write(tmp_path, forged))  # ... but not the tag
     for field, value in [("params.n_robust", 6), ("side_info.hi", d["side_info"]["hi"] * 1.01), ("key", "other")]:
         with pytest.raises(MeshError, match="tag does not match"):
-            load_keyfile(_write(tmp_path, _edit(d, field, value)))
+            load_keyfile(_write(tmp_path, edit(d, field, value)))
     # re-indented / reordered JSON is the same content: still valid
     (tmp_path / "re.json").write_text(json.dumps(dict(reversed(list(d.items())))))
     assert load_keyfile(tmp_path / "re.json").key == "owner-key"

@@ -9,7 +9,7 @@ import pytest
 import meshmark
 import meshmark.watermark as W
 from conftest import shared_mesh
-from keyfile_fuzz import run_fork
+from keyfile_fuzz import edit, run_fork
 from meshmark import MeshError
 from meshmark.watermark.keyfile import load_keyfile, validate_keyfile_dict
 
@@ -56,17 +56,6 @@ def test_cli_subprocess_surrogate_key(marked, tmp_path):
     assert r.returncode == 2 and b"--key: the key is not valid UTF-8: 'ownerA\\xff'" in r.stderr, r.stderr
 
 
-def _edit(d, dotted, value):
-    d = json.loads(json.dumps(d))
-    *head, last = dotted.split(".")
-    t = d
-    for h in head:
-        t = t[h]
-    if value is KeyError:
-        del t[last]
-    else:
-        t[last] = value
-    return d
 
 
 def test_unmutated_keyfiles_detect(marked, tmp_path):
@@ -88,7 +77,7 @@ def test_key_with_a_lone_surrogate_in_the_file(marked, tmp_path):
         code, err = _cli(tmp_path, mesh, kf)
         assert code == 2 and "field 'key' is not valid UTF-8" in err, err
     # anywhere else too, keys of objects included
-    code, err = _cli(tmp_path, mesh, _edit(d, "choice.mode", "\ud800"))
+    code, err = _cli(tmp_path, mesh, edit(d, "choice.mode", "\ud800"))
     assert code == 2 and "field 'choice.mode' is not valid UTF-8" in err
     code, err = _cli(tmp_path, mesh, {**d, "x\udcff": 1})
     assert code == 2 and "is not valid UTF-8" in err
@@ -109,7 +98,7 @@ def test_key_with_a_lone_surrogate_on_the_command_line(marked, tmp_path, key):
 @pytest.mark.parametrize("scheme", [{}, [], None, 3, ["keyed-aes-ml-v1"], "ldpc"])
 def test_coding_scheme_not_a_known_string(marked, tmp_path, scheme):
     mesh, d = marked["laplacian"]
-    for kf in (_edit(d, "coding.scheme", scheme), _untagged(_edit(d, "coding.scheme", scheme))):
+    for kf in (edit(d, "coding.scheme", scheme), _untagged(edit(d, "coding.scheme", scheme))):
         code, err = _cli(tmp_path, mesh, kf)
         assert code == 2 and "coding scheme must be one of" in err and "(coding.scheme)" in err, err
 
@@ -118,7 +107,7 @@ def test_coding_scheme_not_a_known_string(marked, tmp_path, scheme):
 @pytest.mark.parametrize("version", [1, 2])
 def test_untagged_missing_laplacian_field(marked, tmp_path, field, version):
     mesh, d = marked["laplacian"]
-    code, err = _cli(tmp_path, mesh, _untagged(_edit(d, field, KeyError), version))
+    code, err = _cli(tmp_path, mesh, _untagged(edit(d, field, KeyError), version))
     assert code == 2 and f"{field} is missing" in err, err
 
 
@@ -144,7 +133,7 @@ def test_lo_above_hi_is_an_input_error(marked, tmp_path, lo_hi):
     mesh, d = marked["laplacian"]
     lo, hi = d["side_info"]["lo"], d["side_info"]["hi"]
     new = {"swap": (hi, lo), "equal": (hi, hi), "close": (hi * (1 - 1e-13), hi)}[lo_hi]
-    kf = _untagged(_edit(_edit(d, "side_info.lo", new[0]), "side_info.hi", new[1]))
+    kf = _untagged(edit(edit(d, "side_info.lo", new[0]), "side_info.hi", new[1]))
     code, err = _cli(tmp_path, mesh, kf)
     assert code == 2 and "side_info.lo" in err and "side_info.hi" in err, err
 
@@ -155,7 +144,7 @@ def test_carriers_beyond_the_methods_bins(marked, tmp_path):
         K = d["params"]["K"]
         high = K if method.startswith("cho") else (K - 2) // 2
         ids = d["side_info"]["carriers"]
-        kf = _untagged(_edit(d, "side_info.carriers", [high] + ids[1:]))
+        kf = _untagged(edit(d, "side_info.carriers", [high] + ids[1:]))
         code, err = _cli(tmp_path, mesh, kf)
         assert code == 2 and f"side_info.carriers[0] must be an integer in 0..{high - 1}, got {high}" in err, (method, err)
 
@@ -163,21 +152,21 @@ def test_carriers_beyond_the_methods_bins(marked, tmp_path):
 def test_method_rules(marked):
     _, d = marked["laplacian"]
     with pytest.raises(MeshError, match="params.thesis_exact is true but params.carrier is 'local'"):
-        validate_keyfile_dict(_edit(d, "params.thesis_exact", True))
+        validate_keyfile_dict(edit(d, "params.thesis_exact", True))
     with pytest.raises(MeshError, match="params.carrier must be one of"):
-        validate_keyfile_dict(_edit(d, "params.carrier", "nope"))
+        validate_keyfile_dict(edit(d, "params.carrier", "nope"))
     with pytest.raises(MeshError, match=r"params.bins is not a field of a laplacian keyfile's params"):
-        validate_keyfile_dict(_edit(d, "params.bins", 3))
+        validate_keyfile_dict(edit(d, "params.bins", 3))
     _, c = marked["cho-variance"]
     with pytest.raises(MeshError, match=r"params.alpha must be a finite number in \(0, 0.333333\)"):
-        validate_keyfile_dict(_edit(c, "params.alpha", 0.4))
-    validate_keyfile_dict(_edit(marked["cho-mean"][1], "params.alpha", 0.4))  # below 1/2: fine for cho-mean
+        validate_keyfile_dict(edit(c, "params.alpha", 0.4))
+    validate_keyfile_dict(edit(marked["cho-mean"][1], "params.alpha", 0.4))  # below 1/2: fine for cho-mean
     with pytest.raises(MeshError, match="params.thesis_exact is true but params.guard"):
-        validate_keyfile_dict(_edit(c, "params.thesis_exact", True))
+        validate_keyfile_dict(edit(c, "params.thesis_exact", True))
     with pytest.raises(MeshError, match="payload.bits of a text payload must be whole bytes, got 7 bits"):
         bits = "1111111"
         import hashlib
-        validate_keyfile_dict(_edit(_edit(_edit(d, "payload.bits", bits), "payload.n_bits", 7), "payload.sha256",
+        validate_keyfile_dict(edit(edit(edit(d, "payload.bits", bits), "payload.n_bits", 7), "payload.sha256",
                                     hashlib.sha256(bits.encode()).hexdigest()))
 
 

@@ -1,6 +1,7 @@
 // Writing mesh files through CGAL's stream support (CGAL/IO). Reading is in read_mesh.cpp and the
 // per-format readers (read_obj.cpp, read_off.cpp, read_ply.cpp; read_stl.cpp, the only other
 // translation unit with a CGAL IO header).
+#include "file_extension.h"
 #include "meshmark/error.h"
 #include "meshmark/printable.h"
 #include "meshmark/triangulate.h"
@@ -32,15 +33,6 @@ namespace {
 using Point = CGAL::Simple_cartesian<double>::Point_3;
 using PointF = CGAL::Simple_cartesian<float>::Point_3;
 using Polygon = std::vector<std::size_t>;
-
-std::string extension(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  const auto slash = path.find_last_of("/\\");
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot + 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 bool write_stream(std::ostream& os, const Eigen::Ref<const MatrixX3dR>& V, const Polygons& P, const WriteOptions& options,
                   const std::string& ext, bool binary) {
@@ -93,7 +85,7 @@ void write_mesh(const std::string& path, const Eigen::Ref<const MatrixX3dR>& V, 
                 const WriteOptions& options) {
   validate_mesh(V, P);
   const std::string shown = printable(path, 400);
-  const std::string ext = extension(path);
+  const std::string ext = detail::file_extension(path);
   if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl")
     throw MeshError("cannot write '" + shown + "': unsupported format '" + (ext.empty() ? std::string("(no extension)") : "." + printable(ext, 20)) +
                     "' (supported: .obj .off .ply .stl)");

@@ -6,6 +6,7 @@
 // allocated for it, so no allocation exceeds a small multiple of the file size (the fuzz test,
 // tests/test_fuzz_readers.py, holds it to 20x + 64 MB), and every message built from file content
 // goes through printable() so it is valid UTF-8.
+#include "file_extension.h"
 #include "read_common.h"
 #include "meshmark/validate.h"
 
@@ -22,15 +23,6 @@ namespace meshmark {
 using detail::Reader;
 
 namespace {
-
-std::string extension(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  const auto slash = path.find_last_of("/\\");
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot + 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 // Faces that repeat a vertex: consecutive repeats are merged ((a,b,b,c) -> (a,b,c)); a face left
 // with fewer than 3 corners, or still repeating a vertex, is dropped when drop_collapsed is set
@@ -112,7 +104,7 @@ MeshFile read_mesh_impl(const Reader& r, const std::string& path, bool drop_coll
   if (!S_ISREG(st.st_mode)) r.fail("not a regular file");
   const long long size = static_cast<long long>(st.st_size);
   if (size == 0) r.fail("the file is empty");
-  const std::string ext = extension(path);
+  const std::string ext = detail::file_extension(path);
   MeshFile out;
   out.format = ext;
   if (ext == "obj" || ext == "off" || ext == "ply") {

@@ -53,7 +53,9 @@ def analyze():
 @click.option("--repeats", type=int, default=1, show_default=True, help="Dithered samples per level (averaged), 1..1000.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def degradation(inp, tolerance, seed, repeats, as_json):
-    """Ch. 3: fit D(t) = C / (1 + e^(-a - b t)) (eq. 3.2.1) to dis(M, M^t) at t = 12, 16, 20, 24, 28
+    """Normal degradation against the mantissa bits kept.
+
+    Thesis chapter 3: fit D(t) = C / (1 + e^(-a - b t)) (eq. 3.2.1) to dis(M, M^t) at t = 12, 16, 20, 24, 28
     bits of the IEEE-754 double kept, per weighting, and the level t per tolerance (eq. 3.2.6)."""
     from .. import read_mesh
     from .degradation import WEIGHTINGS, degradation_model
@@ -82,7 +84,9 @@ def degradation(inp, tolerance, seed, repeats, as_json):
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the dither that measures psi.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def quantization(inp, tolerance, bound, adaptive, seed, as_json):
-    """Ch. 4: the dithered-quantization level i (32-bit fixed point in the bounding cube) per bound
+    """Quantization level per normal-degradation bound.
+
+    Thesis chapter 4: the dithered-quantization level i (32-bit fixed point in the bounding cube) per bound
     (eqs. 4.3.19-4.3.21) and the measured psi^i in degrees after dithering at that level (eq. 4.3.22)."""
     from .. import read_mesh
     from .quantization import BOUNDS, quantization_table
@@ -118,7 +122,9 @@ def quantization(inp, tolerance, bound, adaptive, seed, as_json):
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random low bits.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def quantize(inp, out, tolerance, bound, adaptive, seed, as_json):
-    """Ch. 4: write OUT, the dithered IN (keep the level's most significant bits of the 32-bit
+    """Write OUT: IN quantized at the level of a bound.
+
+    Thesis chapter 4: OUT is the dithered IN (keep the level's most significant bits of the 32-bit
     fixed-point coordinates, random low bits)."""
     import numpy as np
     from .. import read_mesh, write_mesh
@@ -148,7 +154,9 @@ def quantize(inp, out, tolerance, bound, adaptive, seed, as_json):
 @click.option("--t-min", type=int, default=12, show_default=True, help="Smallest level of the linear fit, 1..19.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def curvature(inp, seed, repeats, t_min, as_json):
-    """Ch. 5: mean change of the discrete Gaussian curvature (eq. 5.1.1) of the interior vertices under
+    """Gaussian-curvature degradation against the bits kept.
+
+    Thesis chapter 5: mean change of the discrete Gaussian curvature (eq. 5.1.1) of the interior vertices under
     displacements of mean strength 2^-t L (t = 1..20, L the bounding cube) along the vertex normal, a
     tangent or a random direction, and the fit log2 kappa_dif = a t + b over t >= t-min (eq. 5.2.4)."""
     from .. import read_mesh

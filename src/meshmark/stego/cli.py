@@ -196,7 +196,8 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_file, force, as_json):
     """Recover the message hidden in IN. Exit status: 0 found, 1 no message (wrong key, damaged, clean).
-    An existing --out-file is replaced only with --force."""
+    A UTF-8 message is printed; binary bytes go to --out-file or a redirected output, never to a
+    terminal. An existing --out-file is replaced only with --force."""
     from ..atomic import check_output, write_bytes
     from ..io import read_mesh
     from . import extract
@@ -224,6 +225,9 @@ def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_f
         click.echo(f"{inp}: {len(r.message)} bytes written to {out_file}")
     elif text is not None:
         click.echo(text)
+    elif sys.stdout.isatty():  # binary bytes would garble the terminal: say where they can go instead
+        click.echo(f"{inp}: a binary message of {len(r.message)} bytes was found; it is not printed to a "
+                   "terminal: use --out-file FILE or redirect the output (> FILE)", err=True)
     else:
         sys.stdout.buffer.write(r.message)
         sys.stdout.buffer.flush()
