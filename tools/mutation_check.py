@@ -3,8 +3,8 @@
 
 Each mutant is a small source edit (file, exact old text -> new text, the old text occurring exactly
 once) and the pytest node ids that should catch it. The tree (``git ls-files`` plus the built
-``src/meshmark/_core*.so``) is copied to a temporary folder once; every mutant is written into that
-copy, its tests run there (``PYTHONPATH=<copy>/src``, one process), and the file restored from the
+``meshmark/_core*.so``, from src/ or else the installed package) is copied to a temporary folder
+once; every mutant is written into that copy, its tests run there (``PYTHONPATH=<copy>/src``, one process), and the file restored from the
 pristine text before the next one. The working tree is never written to.
 
 A mutant is *killed* when pytest exits 1 (a test failed); *survived* when it exits 0; any other exit
@@ -103,8 +103,17 @@ def _copy_tree(dest: pathlib.Path) -> None:
         if src.is_file():
             (dest / os.fsdecode(f)).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, dest / os.fsdecode(f))
-    for so in (ROOT / "src" / "meshmark").glob("_core*.so"):
+    for so in _built_core():
         shutil.copy2(so, dest / "src" / "meshmark" / so.name)
+
+
+def _built_core() -> list:
+    """The compiled module: beside the sources (a worktree) or else in the installed package (.venv)."""
+    for d in [ROOT / "src"] + [pathlib.Path(p) for p in sys.path if p]:
+        found = sorted((d / "meshmark").glob("_core*.so"))
+        if found:
+            return found
+    raise SystemExit("no built meshmark/_core*.so beside src/ or on sys.path: build first (./test.sh)")
 
 
 def _pytest(tree: pathlib.Path, tests, env) -> tuple[int, list, float]:
