@@ -4,8 +4,8 @@
 Each mutant is a small source edit (file, exact old text -> new text, the old text occurring exactly
 once) and the pytest node ids that should catch it. The tree (``git ls-files`` plus the built
 ``meshmark/_core*.so``, from src/ or else the installed package) is copied to a temporary folder
-once; every mutant is written into that copy, its tests run there (``PYTHONPATH=<copy>/src``, one process), and the file restored from the
-pristine text before the next one. The working tree is never written to.
+once; every mutant is written into that copy, its tests run there (``PYTHONPATH=<copy>/src``, one
+process), and the file restored from the pristine text before the next one. The working tree is never written to.
 
 A mutant is *killed* when pytest exits 1 (a test failed); *survived* when it exits 0; any other exit
 (collection error, usage error) is reported as *error*. The unmutated copy is run first on the union
