@@ -63,6 +63,13 @@ def test_random_similarity_is_a_similarity_and_seeded(cow):
     again = A.similarity(cow, seed=7)
     np.testing.assert_array_equal(again.V, out.V)
     assert not np.array_equal(A.similarity(cow, seed=8).V, out.V)
+    # t = U[-1, 1]^3 * translation * bbox diagonal (of the referenced vertices): 40 seeds fill the cube
+    used = np.zeros(cow.n_vertices, bool)
+    used[cow.face_indices] = True
+    diag = np.linalg.norm(cow.V[used].max(0) - cow.V[used].min(0))
+    u = np.array([A.similarity(cow, seed=k, translation=0.25, return_transform=True)[3] for k in range(40)]) / (0.25 * diag)
+    assert np.abs(u).max() <= 1.0 and np.abs(u).max() > 0.95  # measured 0.995
+    assert abs(u.mean()) < 0.15 and abs(u.std() - 3 ** -0.5) < 0.06  # U[-1, 1]: 0, 0.577; measured -0.07, 0.573
 
 
 def test_random_rotation_is_uniform_on_average():

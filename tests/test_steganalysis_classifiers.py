@@ -173,8 +173,16 @@ def test_cli_train_detect_evaluate(tmp_path):
     assert d["n_covers"] == 8 and d["methods"] == ["cho-variance", "radial"] and len(d["corpus_hash"]) == 64
     x = run("detect", str(covers / "vhacd_pig.off"), "--model", str(model), "--json")
     d = json.loads(x.stdout)
-    assert x.returncode in (0, 1) and set(d["methods"]) == {"cho-variance", "radial"}
-    assert isinstance(d["marked"], bool) and x.returncode == (0 if d["marked"] else 1)
+    # a clean training cover: not marked, exit 1
+    assert (x.returncode, d["marked"], set(d["methods"])) == (1, False, {"cho-variance", "radial"}), x.stderr
+    # the same cover Cho-variance marked (alpha 0.16): marked, exit 0
+    import meshmark
+    from meshmark.watermark import cho
+    pig = meshmark.read_mesh(covers / "vhacd_pig.off")
+    meshmark.write_mesh(tmp_path / "pig_marked.off", cho.embed(pig, payload="x", key="k", method="variance").V, pig)
+    x = run("detect", str(tmp_path / "pig_marked.off"), "--model", str(model), "--json")
+    d = json.loads(x.stdout)
+    assert (x.returncode, d["marked"]) == (0, True), x.stdout
     x = run("evaluate", str(covers), "--set", "lfs76", "--methods", "cho-variance", "--splits", "2",
             "--dataset", str(tmp_path / "ds.npz"), "--csv", str(tmp_path / "rows.csv"), "--json")
     d = json.loads(x.stdout)

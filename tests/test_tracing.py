@@ -64,6 +64,28 @@ def test_p_false_alarm_is_corrected_for_the_number_of_copies():
     assert unique >= 999  # measured 1000/1000: a tie needs two equal 26-bit words among 100
 
 
+def test_decision_at_the_threshold_and_the_bonferroni_pair(fandisk, tmp_path, monkeypatch):
+    """The copy codewords come from ``secrets``; seeded here so the p-values are reproducible. Uniform
+    noise of 2e-4 d-bar leaves the blind read far below 1e-6 (measured 1e-8); 3e-4 leaves p = 1.3e-3:
+    evidence, but above 1e-6, so "none" (no copy, no asset). With the original, p is twice the
+    smaller of the blind and informed p-values (Bonferroni over the two tests), the informed one
+    n_copies * P(Z >= z)."""
+    from meshmark import attacks
+    from meshmark.watermark import informed
+    g = np.random.default_rng(2026)
+    monkeypatch.setattr(tracing.secrets, "token_bytes", lambda n: g.bytes(n))
+    reg = tmp_path / "r.sqlite"
+    V = tracing.issue(fandisk, key="owner", registry=reg, n_copies=4)[1][1]
+    r = tracing.trace(attacks.noise(V, fandisk.F, strength=2e-4, seed=1).V, fandisk.F, registry=reg)
+    assert (r["detected"], r["copy"]) == (True, "0002") and r["p_false_alarm"] < 1e-7
+    r = tracing.trace(attacks.noise(V, fandisk.F, strength=3e-4, seed=1).V, fandisk.F, registry=reg, original=fandisk)
+    assert 5e-4 < r["p_false_alarm"] < 5e-3  # measured 1.34e-3: above 1e-6, below 1e-2
+    assert (r["detected"], r["copy"], r["asset_id"]) == (False, None, None) and r["evidence"] == "informed+blind"
+    b, i = r["blind"]["p_false_alarm"], r["informed"]["p_false_alarm"]
+    assert i == pytest.approx(4 * informed.tail_probability(r["informed"]["z"]), rel=1e-12) and i < b
+    assert r["p_false_alarm"] == pytest.approx(2 * i, rel=1e-12)
+
+
 def test_cli_issue_trace(fandisk, tmp_path):
     src = str(shared_mesh("classic/fandisk.obj"))
     run = lambda *a: subprocess.run([sys.executable, "-m", "meshmark.cli", *a], capture_output=True, text=True)
