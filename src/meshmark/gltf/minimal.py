@@ -11,10 +11,11 @@ import numpy as np
 import pygltflib
 
 from .._core import MeshError
-from ..mesh import as_mesh
+from ..mesh import as_mesh, FacesLike, MeshLike
+from .._typing import PathLike
 
 
-def gltf_bytes(path, V, F=None) -> bytes:
+def gltf_bytes(path: PathLike, V: MeshLike, F: FacesLike = None) -> bytes:
     """The bytes of a minimal glTF holding the mesh (container from ``path``'s extension)."""
     mesh = as_mesh(V, F)
     ext = os.path.splitext(os.fspath(path))[1].lower()
@@ -51,7 +52,7 @@ def gltf_bytes(path, V, F=None) -> bytes:
     return g.gltf_to_json().encode("utf-8")
 
 
-def write_gltf(path, V, F=None) -> None:
+def write_gltf(path: PathLike, V: MeshLike, F: FacesLike = None) -> None:
     """Write the mesh as a minimal glTF to ``path`` (``.glb`` or ``.gltf``)."""
     data = gltf_bytes(path, V, F)
     try:

@@ -24,6 +24,7 @@ from ..mesh import Mesh
 from ..parts import Joined, join
 from . import accessors as acc
 from .container import Container, _shown, load
+from .._typing import PathLike
 
 TRIANGLE_MODES = (pygltflib.TRIANGLES, pygltflib.TRIANGLE_STRIP, pygltflib.TRIANGLE_FAN)
 
@@ -109,7 +110,7 @@ def _primitives(doc: dict, where: str):
             yield mi, pi, m.get("name"), acc._typed(pygltflib.Primitive, p, f"{where}: mesh {mi} primitive {pi}")
 
 
-def read(path, *, drop_collapsed: bool = True) -> tuple[Mesh, GltfInfo]:
+def read(path: PathLike, *, drop_collapsed: bool = True) -> tuple[Mesh, GltfInfo]:
     """Read a ``.glb`` / ``.gltf`` as one :class:`~meshmark.Mesh` and its :class:`GltfInfo`.
 
     Triangles that repeat a vertex (strip restarts, collapsed triangles) are dropped and counted

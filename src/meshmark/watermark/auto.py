@@ -30,6 +30,9 @@ import math
 
 from .._core import MeshError
 from . import coding
+from .._typing import IntArray
+from typing import Iterator
+from typing import Any
 
 MODES = ("auto", "thesis")
 
@@ -81,7 +84,8 @@ def _evaluate(mesh, m, given: dict):
         raise first_error
 
 
-def choose(mesh, m, params, method_params: dict, n_data, need: int = None):
+def choose(mesh: Mesh, m: Any, params: Any, method_params: dict, n_data: int | None,
+           need: int = None) -> tuple[dict[str, Any], IntArray, Any, dict[str, Any]]:
     """(params, carrier ids, side info, choice record) for method ``m`` on ``mesh``.
 
     ``params``: "auto", "thesis", or a dict of explicit parameters (merged with ``method_params``);
@@ -120,7 +124,8 @@ def choose(mesh, m, params, method_params: dict, n_data, need: int = None):
 FALLBACK_PARAMS = {"laplacian": {"carrier": "thesis"}}
 
 
-def fallbacks(mesh, m, method_params: dict, choice: dict):
+def fallbacks(mesh: Mesh, m: Any, method_params: dict, choice: dict) -> Iterator[tuple[dict[str, Any], IntArray, Any,
+              dict[str, Any]]]:
     """What to try, in turn, when the chosen rung's mark does not take on the mesh (rare; e.g. many
     small parts of 36-gons): the later rungs that also fit the payload, then (if the user did not
     choose it) the method's fallback carrier (:data:`FALLBACK_PARAMS`) with its own ladder. Each item is
@@ -140,6 +145,6 @@ def fallbacks(mesh, m, method_params: dict, choice: dict):
                                      "fallback_from": start, **({"fallback": alt} if given.keys() - method_params.keys() else {})}
 
 
-def longest_payload_bits(mesh, m, method_params: dict) -> int:
+def longest_payload_bits(mesh: Mesh, m: Any, method_params: dict) -> int:
     """The longest payload (bits) ``params="auto"`` can embed: the largest over the ladder."""
     return max((coding.max_data_bits(len(ids)) for _, _, ids, _ in _evaluate(mesh, m, dict(method_params))), default=0)

@@ -42,7 +42,7 @@ import numpy as np
 
 from .. import __version__
 from .._core import MeshError
-from ..mesh import Mesh, as_mesh
+from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
 from ..topology import Welded, weld_vertices
 from ..metrics import cdr as _cdr, false_alarm_probability, normalized_correlation
 from . import keys as _keys
@@ -50,6 +50,8 @@ from .keyfile import Keyfile, load_keyfile
 from . import coding as _coding
 from .payload import Payload, decode as _decode_repeat, repeat_to
 from .methods import METHODS, register, method_named as _method  # noqa: F401  (re-exported)
+from .._typing import PathLike, Progress
+from typing import Any
 
 DETECTION_THRESHOLD = 1e-6
 MIN_CARRIERS = 8
@@ -141,8 +143,9 @@ def _weld(mesh: Mesh, weld) -> Welded | None:
     return weld_vertices(mesh) if weld else None
 
 
-def capacity(V, F=None, method: str = "laplacian", weld: bool = True, params="auto", n_data: int = None,
-             **method_params) -> int:
+def capacity(V: MeshLike, F: FacesLike = None, method: str = "laplacian", weld: bool = True, params: str | dict[str,
+             Any] = "auto", n_data: int = None,
+             **method_params: Any) -> int:
     """Number of carrier bits the mesh offers to ``method`` (before coding), on the welded mesh unless
     ``weld=False``: with the parameters ``params="auto"`` (the default) chooses for a payload of
     ``n_data`` bits (:mod:`.auto`; without ``n_data``, its first rung: the published numbers with the
@@ -195,8 +198,10 @@ def embed_channel(mesh: Mesh, m, p: dict, side: dict, ids, channel: np.ndarray, 
     return Vm, side, stats
 
 
-def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress=None, weld: bool = True,
-          params="auto", store_key: bool = True, key_bins: bool = False, **method_params) -> EmbedResult:
+def embed(V: MeshLike, F: FacesLike = None, payload: str | bytes | None = None, key: str | int | None = None,
+          method: str = "laplacian", progress: Progress = None, weld: bool = True,
+          params: str | dict[str, Any] = "auto", store_key: bool = True, key_bins: bool = False,
+          **method_params: Any) -> EmbedResult:
     """Embed ``payload`` (text, bit string or Payload) under ``key`` with ``method``.
 
     ``params="auto"`` (default) chooses the method's parameters for this mesh and payload
@@ -318,7 +323,8 @@ def _prepare(mesh: Mesh, kf: Keyfile):
     return mesh, n_merged, warnings, expected
 
 
-def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
+def extract(V: MeshLike, F: FacesLike = None, keyfile: Keyfile | PathLike | None = None,
+            key: str | int | None = None, progress: Progress = None) -> ExtractResult:
     """Extract and detect the watermark described by ``keyfile`` (a path or Keyfile).
 
     ``key`` overrides the keyfile's key (to test a key), and is required when the keyfile was written

@@ -37,7 +37,7 @@ import secrets
 import numpy as np
 
 from .._core import MeshError
-from ..mesh import as_mesh
+from ..mesh import as_mesh, FacesLike, MeshLike, MeshPair
 from ..metrics import false_alarm_probability
 from . import informed as _informed
 from . import keys as _keys
@@ -46,6 +46,9 @@ from .informed import source_digest  # noqa: F401  (tracing.source_digest: part 
 from .keyfile import Keyfile
 from .methods import method_named
 from .registry import MAX_COPIES, SCHEMA_VERSION, WAIT, Registry, check_copy_id, key_hash  # noqa: F401
+from .._typing import PathLike, Progress
+from typing import Callable, Sequence
+from typing import Any
 
 # params="auto" for copies: the first rung of the ladder with at least 64 carriers (27 certify one
 # copy among 100 only when every bit reads right; 64 still certify it with 10 of the 64 bits wrong
@@ -81,9 +84,12 @@ def _plan_ids(n_copies, ids) -> list | None:
     return ids
 
 
-def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: str = "laplacian", params="auto",
-          weld: bool = True, store_key: bool = True, source_name: str = "", progress=None, original=None,
-          informed: bool = True, sink=None, wait: float = WAIT, **method_params):
+def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLike | Registry, n_copies: int = None,
+          ids: Sequence[int] | None = None, method: str = "laplacian", params: str | dict[str, Any] = "auto",
+          weld: bool = True, store_key: bool = True, source_name: str = "", progress: Progress = None,
+          original: MeshPair | PathLike | None = None,
+          informed: bool = True, sink: Callable[[int, Mesh, dict[str, Any]], None] | None = None, wait: float = WAIT,
+          **method_params: Any) -> dict[str, Any]:
     """Mark copies of the mesh, each with its own random codeword; record them in ``registry`` (a
     path or :class:`Registry`). Give ``n_copies`` (1..MAX_COPIES; numbered after the asset's largest numeric id:
     ``0001``, ...) or ``ids`` (strings usable in a file name, unique within the asset; the same id
@@ -228,7 +234,7 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
             reg.close()
 
 
-def set_paths(registry, paths: dict, asset_id: int | None = None) -> None:
+def set_paths(registry: PathLike | Registry, paths: dict, asset_id: int | None = None) -> None:
     """Record where copies were written (copy id -> path; without ``asset_id``: the copy of that id
     issued last)."""
     own = not isinstance(registry, Registry)
@@ -246,7 +252,8 @@ def set_paths(registry, paths: dict, asset_id: int | None = None) -> None:
             reg.close()
 
 
-def trace(V, F=None, *, registry, key=None, original=None) -> dict:
+def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, key: str | int | None = None,
+          original: MeshPair | PathLike | None = None) -> dict:
     """Which issued copy is this mesh? Returns a dict with ``detected``, ``copy`` (id or None),
     ``p_false_alarm`` (corrected for every codeword compared and, when the original was used, for the
     two tests), ``evidence`` (``"informed+blind"`` or ``"blind"``), ``matches``, ``n_carriers``,
