@@ -104,6 +104,8 @@ class Mesh:
     __slots__ = ("V", "face_indices", "face_offsets", "_topology")
 
     def __init__(self, V: ArrayLike, F: ArrayLike, *, validate: bool = True) -> None:
+        """Validated mesh from ``V`` (n, 3) float64 positions (mesh units) and ``F`` (m, k) integer faces or a list of
+        polygons."""
         self.V = _as_vertices(V)
         self.face_indices, self.face_offsets = _as_polygons(F)
         self._topology = {}

@@ -56,7 +56,9 @@ def _pair(w, w2):
 
 
 def correlation(w: ArrayLike, w2: ArrayLike) -> float:
-    """C(w, w') of eq. 6.3.11 (Pearson correlation of the +-1 sequences); 0 if either is constant."""
+    """C(w, w') of eq. 6.3.11 (Pearson correlation of the +-1 sequences); 0 if either is constant.
+
+    ``w``, ``w2``: (k,) sequences of one length, 0/1 bits or +-1."""
     a, b = _pair(w, w2)
     a, b = a - a.mean(), b - b.mean()
     den = math.sqrt(float((a * a).sum() * (b * b).sum()))
@@ -64,19 +66,25 @@ def correlation(w: ArrayLike, w2: ArrayLike) -> float:
 
 
 def normalized_correlation(w: ArrayLike, w2: ArrayLike) -> float:
-    """NC = mean(w_i w'_i) on the +-1 form (= 2 CDR - 1)."""
+    """NC = mean(w_i w'_i) on the +-1 form (= 2 CDR - 1).
+
+    ``w``, ``w2``: (k,) sequences of one length, 0/1 bits or +-1."""
     a, b = _pair(w, w2)
     return float((a * b).mean())
 
 
 def cdr(w: ArrayLike, w2: ArrayLike) -> float:
-    """Correct detection rate: the fraction of equal bits."""
+    """Correct detection rate: the fraction of equal bits.
+
+    ``w``, ``w2``: (k,) sequences of one length, 0/1 bits or +-1."""
     a, b = _pair(w, w2)
     return float((a == b).mean())
 
 
 def bit_error_rate(w: ArrayLike, w2: ArrayLike) -> float:
-    """1 - CDR."""
+    """1 - CDR.
+
+    ``w``, ``w2``: (k,) sequences of one length, 0/1 bits or +-1."""
     return 1.0 - cdr(w, w2)
 
 
@@ -118,7 +126,10 @@ def vertex_rmse(V: ArrayLike, V2: ArrayLike) -> float:
 
 def bbox_diagonal(V: MeshLike, F: FacesLike = None) -> float:
     """Length of the bounding-box diagonal of the vertices used by the faces (all vertices if F is None
-    and V is an array)."""
+    and V is an array).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces. In
+    mesh units."""
     if F is None and not isinstance(V, Mesh):
         P = _as_vertices(V)
     else:
@@ -189,7 +200,9 @@ def one_sided_distance(A: MeshPair, B: MeshPair, *, n_samples: int | None = None
     """Distances from samples of surface A to surface B (Metro; MeshLab's Hausdorff filter with
     SampleVert + SampleFace): every referenced vertex of A (``include_vertices``) plus ``n_samples``
     area-uniform points (default 2 x triangles of A). Returns ``max``, ``mean``, ``rms``, ``min`` (model
-    units) and ``n_samples`` (the total)."""
+    units) and ``n_samples`` (the total).
+
+    ``A``, ``B``: each a Mesh or a ``(V (n, 3), F (m, k))`` tuple."""
     ma, mb = _pair_meshes(A, B)
     Ta, Tb = np.ascontiguousarray(ma.triangles, np.int32), np.ascontiguousarray(mb.triangles, np.int32)
     return dict(_core.one_sided_distance(ma.V, Ta, mb.V, Tb, _n_default(n_samples, len(Ta)),

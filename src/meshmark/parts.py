@@ -38,6 +38,7 @@ class Joined:
 
     @property
     def n_parts(self) -> int:
+        """The number of parts joined (the (k + 1,) vertex offsets minus one)."""
         return int(self.offsets.size - 1)
 
     def split(self, V: ArrayLike) -> list[np.ndarray]:

@@ -64,7 +64,9 @@ def connected_components(V: MeshLike, F: FacesLike = None) -> tuple[np.ndarray, 
 
 
 def manifold_report(V: MeshLike, F: FacesLike = None) -> dict:
-    """Counts of non-manifold edges (> 2 faces) and vertices (faces not forming one fan)."""
+    """Counts of non-manifold edges (> 2 faces) and vertices (faces not forming one fan).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     m = as_mesh(V, F)
     return _core.manifold_report(m.n_vertices, m.face_indices, m.face_offsets)
 
@@ -108,6 +110,8 @@ def weld_vertices(V: MeshLike, F: FacesLike = None) -> Welded:
     One native hash pass, O(n + corners).
 
     Returns a :class:`Welded` (``mesh``, ``map``, ``first``, ``face``, ``scatter``).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     m = as_mesh(V, F)
     first, vmap, idx, off, face = _core.weld_vertices(m.V, m.face_indices, m.face_offsets)

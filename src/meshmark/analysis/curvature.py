@@ -83,7 +83,9 @@ def curvature_degradation(mesh: MeshPair, t: Sequence[int] = SWEEP_LEVELS, direc
 def fit_linear(t: ArrayLike, kappa_dif: ArrayLike, *, t_min: int = 12) -> dict:
     """The linear model of eq. 5.2.4 as the thesis reports it (Table 5.1: slope -1): least squares
     log2 kappa_dif = a t + b over the levels t >= ``t_min`` (numpy.polyfit, degree 1). Returns
-    ``{"a", "b", "r2", "n"}``."""
+    ``{"a", "b", "r2", "n"}``.
+
+    ``t``, ``kappa_dif``: (k,) arrays of one length (levels, curvature changes)."""
     t = np.asarray(t, dtype=np.float64)
     y = np.log2(np.asarray(kappa_dif, dtype=np.float64))
     ok = (t >= t_min) & np.isfinite(y)
@@ -100,7 +102,10 @@ def curvature_model(mesh: MeshPair, t: Sequence[int] = SWEEP_LEVELS, *, seed: in
                     directions: Sequence[str] = DIRECTIONS) -> dict:
     """The §5.2 experiment on one mesh: kappa_dif(t) per direction and the eq. 5.2.4 fit over
     t >= t_min: ``{direction: {"a", "b", "r2", "n", "kappa_dif": [...]}, "t": [...], "scale": L,
-    "n_interior": int}``."""
+    "n_interior": int}``.
+
+    ``mesh``: a Mesh or ``(V (n, 3), F (m, 3))``; ``t`` the (k,) levels
+    (displacement s ~ U[-2^(1-t), 2^(1-t)] x L, as in :func:`curvature_degradation`)."""
     m, V, T = mesh_arrays(mesh)
     tt = _levels(t, 0, 1074)
     g = gaussian_curvature((V, T))

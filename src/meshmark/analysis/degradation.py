@@ -67,7 +67,9 @@ def degradation_curve(mesh: MeshPair, t: Sequence[int] = range(65), *, seed: int
 
 
 def logistic(t: ArrayLike, a: float, b: float, C: float) -> FloatArray:
-    """D(t) = C / (1 + e^(-a - b t)) (eq. 3.2.1)."""
+    """D(t) = C / (1 + e^(-a - b t)) (eq. 3.2.1).
+
+    ``t`` (k,) levels (any shape) -> D (k,) radians, same shape."""
     t = np.asarray(t, dtype=np.float64)
     return C / (1 + np.exp(-a - b * t))
 
@@ -75,7 +77,9 @@ def logistic(t: ArrayLike, a: float, b: float, C: float) -> FloatArray:
 def fit_logistic(t: ArrayLike, d: ArrayLike, *, loss: str = "soft_l1", f_scale: float = 0.05) -> dict:
     """Fit eq. 3.2.1 to samples ``d`` (radians) at levels ``t`` by scipy.optimize.least_squares with a
     robust loss (``soft_l1``, residual scale ``f_scale`` radians). Start: C = pi/2, b = -1, a = the
-    level where the samples cross C/2. Returns ``{"a", "b", "C", "cost", "success"}``."""
+    level where the samples cross C/2. Returns ``{"a", "b", "C", "cost", "success"}``.
+
+    ``t`` and ``d``: (k,) arrays of one length."""
     from scipy.optimize import least_squares
     t = np.asarray(t, dtype=np.float64)
     d = np.asarray(d, dtype=np.float64)

@@ -43,7 +43,9 @@ TABLE_4_1 = {0.1: 0.0001, 0.2: 0.0006, 0.3: 0.0021, 0.4: 0.0049, 0.5: 0.0092}  #
 def expected_normal_angle(r: ArrayLike) -> float | FloatArray:
     """E(theta) of eqs. 4.1.7/4.1.8, radians, for r = l/h (scalar or array, r >= 0): the expected angle
     between a triangle's normal and its normal after noise uniform in a cube of edge 2l (one face
-    parallel to the triangle) is added to the vertex of height h. E'(0) = 1/2; pi/2 as r -> inf."""
+    parallel to the triangle) is added to the vertex of height h. E'(0) = 1/2; pi/2 as r -> inf.
+
+    Shapes: a scalar gives a float, an array of shape (k,) (any shape) gives the same shape."""
     a = np.asarray(r, dtype=np.float64)
     out = _core.expected_normal_angle(np.ascontiguousarray(a.ravel()))
     return float(out[0]) if a.ndim == 0 else out.reshape(a.shape)
@@ -109,7 +111,9 @@ def quantization_details(mesh: MeshPair, tolerance: float = 1.0, bound: str = "a
     """:func:`quantization_level` with its evidence: ``level`` (0..32), ``level_unclamped``,
     ``level_linear`` (closed form), ``used_exact``, ``e_linear`` / ``e_exact`` (E_mesh at the closed-form
     level, radians), ``e_level``, ``cube`` (L), ``n_triangles``; ``formula`` overrides the choice
-    (``auto``, ``linear``, ``exact``)."""
+    (``auto``, ``linear``, ``exact``).
+
+    ``mesh``: a Mesh or ``(V (n, 3), F (m, 3))``; ``tolerance`` in degrees."""
     b, f = _bound(bound)
     if formula is not None:
         f = formula
@@ -232,7 +236,9 @@ def quantization_table(mesh: MeshPair, tolerances: Sequence[float] = (0.1, 1.0, 
     "psi": {bound: {tol: psi^i in degrees}}, "details": {bound: {tol: quantization_details}}}``, and
     with ``adaptive`` also ``"adaptive": {tol: {"mean_level", "min", "max", "total_bits",
     "global_total_bits", "psi"}}`` (total bits kept = 3 sum_n i_n; the global level for comparison is
-    the ``appr`` one)."""
+    the ``appr`` one).
+
+    ``mesh``: a Mesh or ``(V (n, 3), F (m, 3))``; ``tolerances`` in degrees."""
     m, V, T = mesh_arrays(mesh)
     out = {"levels": {}, "psi": {}, "details": {}}
     for b in bounds:

@@ -68,6 +68,9 @@ def rotate(V: MeshLike, F: FacesLike = None, *, axis: ArrayLike = (0.0, 0.0, 1.0
     """Rotate by ``angle`` degrees about ``axis`` (right-hand rule) through ``center`` (default the origin).
 
     ``v' = R (v - c) + c``. Returns a Mesh with the same faces.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
+    ``axis``: (3,) direction; ``center``: (3,) point in mesh units.
     """
     m = as_mesh(V, F)
     R = _core.axis_angle_rotation(_vec3(axis, "axis"), _finite(angle, "angle"))
@@ -76,13 +79,17 @@ def rotate(V: MeshLike, F: FacesLike = None, *, axis: ArrayLike = (0.0, 0.0, 1.0
 
 
 def translate(V: MeshLike, F: FacesLike = None, *, offset: ArrayLike) -> Mesh:
-    """``v' = v + offset`` (offset: 3 numbers, model units)."""
+    """``v' = v + offset`` (offset: 3 numbers, model units).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     m = as_mesh(V, F)
     return _same_faces(m, _core.similarity_transform(m.V, np.eye(3), 1.0, _vec3(offset, "offset")))
 
 
 def scale(V: MeshLike, F: FacesLike = None, *, factor: float, center: ArrayLike | None = None) -> Mesh:
-    """Uniform scaling ``v' = factor (v - c) + c`` (c default the origin). MeshError unless factor > 0."""
+    """Uniform scaling ``v' = factor (v - c) + c`` (c default the origin). MeshError unless factor > 0.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     m = as_mesh(V, F)
     s = _finite(factor, "scale factor")
     if s <= 0:
@@ -160,6 +167,8 @@ def noise(V: MeshLike, F: FacesLike = None, *, strength: float, seed: int = 0, k
       * ``"tangent"``: ``v' = v + A d-bar (u - (u.n) n)``, ``u ~ U[-1, 1]^3``: tangent plane only.
 
     Unreferenced vertices do not move. MeshError for a negative strength or an unknown kind.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     m = as_mesh(V, F)
     A = _finite(strength, "noise strength")
@@ -201,6 +210,8 @@ def quantize(V: MeshLike, F: FacesLike = None, *, bits: int) -> Mesh:
     """Snap every coordinate to the nearest of ``2^bits + 1`` levels ``lo + k (hi - lo) / 2^bits`` of its
     axis (lo, hi: the bounding box of all vertices): error at most half a step. The thesis and the
     Wang et al. benchmark use b = 7..12. MeshError unless 1 <= bits <= 52.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     m = as_mesh(V, F)
     if isinstance(bits, bool) or int(bits) != bits:
@@ -253,7 +264,9 @@ def dithered_quantize(V: ArrayLike, t: ArrayLike, seed: int = 0, word: str = "fi
 def dither(V: MeshLike, F: FacesLike = None, *, bits: int, seed: int = 0, word: str = "fixed32") -> Mesh:
     """The dithered quantizer as an attack: keep ``bits`` most significant bits per coordinate word,
     randomize the rest (see :func:`dither_bits`). Returns a Mesh with the same faces; MeshError if the
-    result has a non-finite coordinate (float64 words with few bits kept)."""
+    result has a non-finite coordinate (float64 words with few bits kept).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     m = as_mesh(V, F)
     V2 = dithered_quantize(m.V, int(bits), seed, word)
     return Mesh.from_polygons(V2, m.face_indices, m.face_offsets)
@@ -266,6 +279,8 @@ def simplify(V: MeshLike, F: FacesLike = None, *, fraction: float) -> Mesh:
     quadrics, optimal placement). Polygons are triangulated first; unreferenced vertices are dropped;
     vertex order is not preserved. The thesis-style strengths keep 90/70/50/25 % of the faces.
     MeshError if fraction is outside (0, 1] or the mesh is too small (target below 4 triangles).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     m = as_mesh(V, F)
     fr = _finite(fraction, "simplification fraction")
@@ -328,6 +343,8 @@ def file_roundtrip(V: MeshLike, F: FacesLike = None, *, format: str = "obj", dec
     6 digits"); ``"ply"``: binary float32; ``"stl"``: binary (float32, triangles only, corners welded
     on equal coordinates: vertex order and unreferenced vertices may change). ``decimals`` (0..17) is
     for OBJ only.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     from ..io import read_mesh, write_mesh
 

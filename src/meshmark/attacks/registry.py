@@ -48,6 +48,8 @@ def attack(V: MeshLike, F: FacesLike = None, *, name: str, **params: Any) -> Mes
     """Apply the attack ``name`` (a key of :data:`ATTACKS`) with keyword ``params``.
 
     MeshError for an unknown name or a parameter the attack does not take.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     fn = ATTACKS.get(name)
     if fn is None:

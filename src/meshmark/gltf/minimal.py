@@ -16,7 +16,9 @@ from .._typing import PathLike
 
 
 def gltf_bytes(path: PathLike, V: MeshLike, F: FacesLike = None) -> bytes:
-    """The bytes of a minimal glTF holding the mesh (container from ``path``'s extension)."""
+    """The bytes of a minimal glTF holding the mesh (container from ``path``'s extension).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     mesh = as_mesh(V, F)
     ext = os.path.splitext(os.fspath(path))[1].lower()
     if ext not in (".glb", ".gltf"):
@@ -53,7 +55,9 @@ def gltf_bytes(path: PathLike, V: MeshLike, F: FacesLike = None) -> bytes:
 
 
 def write_gltf(path: PathLike, V: MeshLike, F: FacesLike = None) -> None:
-    """Write the mesh as a minimal glTF to ``path`` (``.glb`` or ``.gltf``)."""
+    """Write the mesh as a minimal glTF to ``path`` (``.glb`` or ``.gltf``).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     data = gltf_bytes(path, V, F)
     try:
         with open(path, "wb") as f:

@@ -53,6 +53,8 @@ class Part:
     morph_targets: int
 
     def to_dict(self) -> dict:
+        """The JSON-ready summary of one primitive (accessor, primitives, name, counts, encoding,
+        morph targets); no arrays."""
         return {"accessor": self.accessor, "aliases": list(self.aliases),
                 "primitives": [list(p) for p in self.primitives], "name": self.name, "n_vertices": self.n_vertices,
                 "n_faces": self.n_faces, "encoding": self.encoding, "interleaved": self.interleaved,
@@ -80,6 +82,7 @@ class GltfInfo:
     n_animations: int = 0
 
     def to_dict(self) -> dict:
+        """The JSON-ready summary of the asset (container, parts, skinned, n_animations, notes); no arrays."""
         return {"container": self.container, "n_parts": len(self.parts), "parts": [p.to_dict() for p in self.parts],
                 "skinned": self.skinned, "n_animations": self.n_animations, "notes": list(self.notes)}
 

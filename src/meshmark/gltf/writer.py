@@ -286,7 +286,10 @@ def plan_write(info: GltfInfo, V: ArrayLike, out_path: PathLike) -> list:
 def write_positions(info: GltfInfo, V: ArrayLike, out_path: PathLike, overwrite: bool = True) -> list:
     """Write the asset of ``info`` with positions ``V`` to ``out_path`` (and any external ``.bin``
     beside it), all files or none. Returns the paths written. ``overwrite=False``: MeshError naming
-    the first file that exists (before anything is written)."""
+    the first file that exists (before anything is written).
+
+    ``V``: (n, 3) float64 positions, one row per vertex of the joined mesh :func:`read` returned, in mesh units
+    (each primitive's own space)."""
     files = plan_write(info, V, out_path)
     write_all([(p, (lambda data: lambda tmp: _write_bytes(tmp, data))(d)) for p, d in files],
               what=["glTF asset"] + ["glTF buffer"] * (len(files) - 1), overwrite=overwrite)

@@ -161,7 +161,9 @@ def margin_test(means: ArrayLike, counts: ArrayLike, trim: int = 3, min_count: i
 
 def gaussian_mixture_2(x: ArrayLike, reg_covar: float = 1e-6, tol: float = 1e-3, max_iter: int = 100) -> dict:
     """The native 1-D two-component EM used by :func:`analyze` (``weights``, ``means``, ``variances``,
-    ``labels``, ``n_iter``, ``converged``, ``lower_bound``, ``ok``)."""
+    ``labels``, ``n_iter``, ``converged``, ``lower_bound``, ``ok``).
+
+    ``x``: (k,) samples."""
     return _core.gaussian_mixture_2(np.asarray(x, float).ravel().tolist(), reg_covar, tol, max_iter)
 
 

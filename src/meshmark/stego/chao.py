@@ -46,6 +46,8 @@ def _bits_of(message) -> np.ndarray:
 
 
 def capacity(mesh: Mesh, n_layers: int = 10, n_intervals: int = 10000) -> int:
+    """Bits the Chao et al. method can hide in ``mesh`` (a Mesh, ``V`` (n, 3) float64): 3 bits (one per coordinate) per
+    carrier vertex (all but the frame vertices) and layer."""
     V = _vertices(mesh)
     f = _core.chao_frame(V)
     return int(len(_core.chao_carriers(V.shape[0], f)) * 3 * n_layers)
@@ -84,7 +86,9 @@ def embed(mesh: Mesh, bits: ArrayLike | None = None, *, message: bytes | None = 
 def extract(mesh: Mesh, n_bits: int, *, frame: dict | None = None, n_layers: int = 10,
             n_intervals: int = 10000) -> np.ndarray:
     """The first ``n_bits`` bits (uint8 0/1). ``frame=None`` is the blind mode of the paper (PCA and
-    V_a, V_b recomputed from the marked mesh); with the embedder's ``frame`` the bits are exact."""
+    V_a, V_b recomputed from the marked mesh); with the embedder's ``frame`` the bits are exact.
+
+    ``mesh``: a Mesh with ``V`` (n, 3) float64; returns (n_bits,) uint8."""
     V = _vertices(mesh)
     f = _core.chao_frame(V) if frame is None else frame
     return _core.chao_extract(V, f, int(n_bits), int(n_layers), int(n_intervals))

@@ -239,7 +239,9 @@ class ExtractResult:
 
 def capacity(mesh: Mesh, tolerance: float = 1.0, adaptive: bool | str = True, precision: str = "fixed32",
              levels: int | Callable[[Mesh], int | IntArray] | None = None) -> dict:
-    """Capacity of ``mesh`` for one precision: bits, bits per vertex, longest message in bytes."""
+    """Capacity of ``mesh`` for one precision: bits, bits per vertex, longest message in bytes.
+
+    ``mesh``: a Mesh with ``V`` (n, 3) float64; ``tolerance`` in degrees of normal change."""
     m = _check_mesh(mesh)
     precision = _check_precision(precision)
     level_fn = level_function(tolerance, adaptive, levels)
@@ -399,7 +401,9 @@ def extract(mesh: Mesh, key: str | bytes, tolerance: float = 1.0, adaptive: bool
     """The message hidden by :func:`embed` with the same key, tolerance, adaptive flag and precision,
     or ``found=False`` with reason :data:`NO_MESSAGE` (wrong key, damaged or clean mesh: never
     garbage, and the same answer for all three; "damaged message" only once the key's header
-    authenticated)."""
+    authenticated).
+
+    ``mesh``: a Mesh with ``V`` (n, 3) float64; ``tolerance`` in degrees of normal change."""
     m = _check_mesh(mesh)
     precision = _check_precision(precision)
     kb = crypto.key_bytes(key)

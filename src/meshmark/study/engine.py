@@ -78,6 +78,7 @@ class Summary:
     failures: list = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
+        """The summary's fields as a plain dict (task counts, seconds, failures)."""
         return dict(self.__dict__)
 
 

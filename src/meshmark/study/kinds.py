@@ -83,7 +83,9 @@ class Read:
     @classmethod
     def compare(cls, sent: ArrayLike, got: ArrayLike, p_threshold: float | None = None) -> "Read":
         """The read-back figures of ``got`` against ``sent`` (0/1 arrays of one length); detected when
-        P(false alarm) (metrics.false_alarm_probability) < p_threshold (default the framework's 1e-6)."""
+        P(false alarm) (metrics.false_alarm_probability) < p_threshold (default the framework's 1e-6).
+
+        ``sent``, ``got``: (k,) arrays."""
         from ..metrics import correlation, false_alarm_probability, normalized_correlation
         from ..watermark.framework import DETECTION_THRESHOLD
         p_threshold = DETECTION_THRESHOLD if p_threshold is None else p_threshold

@@ -96,5 +96,6 @@ class Store:
         return self._ref(key).exists() or self._obj(key).exists()
 
     def keys(self) -> Iterator[str]:
+        """The keys of the stored marked meshes, sorted."""
         for p in sorted((self.root / "refs").glob("*/*.json")):
             yield p.stem

@@ -129,7 +129,9 @@ def fallbacks(mesh: Mesh, m: Any, method_params: dict, choice: dict) -> Iterator
     """What to try, in turn, when the chosen rung's mark does not take on the mesh (rare; e.g. many
     small parts of 36-gons): the later rungs that also fit the payload, then (if the user did not
     choose it) the method's fallback carrier (:data:`FALLBACK_PARAMS`) with its own ladder. Each item is
-    as ``choose`` returns it; deterministic. Not used for ``params="thesis"`` or explicit parameters."""
+    as ``choose`` returns it; deterministic. Not used for ``params="thesis"`` or explicit parameters.
+
+    ``mesh``: a Mesh with ``V`` (n, 3) float64; each item carries its carrier ids (c,) int."""
     if choice.get("mode") != "auto" or choice.get("rule") != 1:
         return
     need = choice.get("needed_carriers")

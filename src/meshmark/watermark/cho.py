@@ -114,7 +114,9 @@ def _name(method: str) -> str:
 
 
 def capacity(V: MeshLike, F: FacesLike = None, method: str = "mean", **params: Any) -> int:
-    """Number of non-empty bins = carrier bits, before framing (16 bits) is subtracted."""
+    """Number of non-empty bins = carrier bits, before framing (16 bits) is subtracted.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.capacity(V, F, method=_name(method), **params)
 
 
@@ -124,13 +126,17 @@ def embed(V: MeshLike, F: FacesLike = None, payload: str | bytes | None = None, 
 
     Parameters: ``K`` bins (64), ``alpha`` (0.04 mean / 0.16 variance), ``delta_k`` (0.001), ``guard``
     (0.005), ``center_iters`` (20), ``thesis_exact`` (False: guard and center_iters default to 0 when True).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     return framework.embed(V, F, payload=payload, key=key, method=_name(method), progress=progress, **params)
 
 
 def extract(V: MeshLike, F: FacesLike = None, keyfile: Keyfile | PathLike | None = None,
             key: str | int | None = None, progress: Progress = None) -> framework.ExtractResult:
-    """Blind extraction and detection with a keyfile written by :func:`embed`."""
+    """Blind extraction and detection with a keyfile written by :func:`embed`.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.extract(V, F, keyfile=keyfile, key=key, progress=progress)
 
 

@@ -98,6 +98,8 @@ class EmbedResult:
         return iter((self.V, self.keyfile))
 
     def to_dict(self) -> dict:
+        """The JSON-ready summary (method, capacity, coding, parameters and their choice,
+        weld, the method's stats); no vertex array."""
         c = self.keyfile.coding
         return {"method": self.keyfile.method, "capacity": self.capacity, "n_coded": c["n_coded"],
                 "coding": c["scheme"], "info_bits": c.get("info_bits", c.get("frame_bits")),
@@ -129,6 +131,8 @@ class ExtractResult:
         return self.expected_vertices is None or self.n_vertices == self.expected_vertices
 
     def to_dict(self) -> dict:
+        """The JSON-ready verdict (detected, nc, cdr, matches, bits, p_false_alarm, message,
+        reason, warnings, vertex counts); no arrays."""
         return {"detected": self.detected, "nc": self.nc, "cdr": self.cdr, "matches": self.matches,
                 "bits": self.n_bits, "p_false_alarm": self.p_false_alarm, "message": self.message,
                 "message_ok": self.message_ok, "reason": self.reason, "warnings": list(self.warnings),
@@ -149,7 +153,9 @@ def capacity(V: MeshLike, F: FacesLike = None, method: str = "laplacian", weld: 
     """Number of carrier bits the mesh offers to ``method`` (before coding), on the welded mesh unless
     ``weld=False``: with the parameters ``params="auto"`` (the default) chooses for a payload of
     ``n_data`` bits (:mod:`.auto`; without ``n_data``, its first rung: the published numbers with the
-    method's default carrier), or with the published parameters and carrier (``params="thesis"``)."""
+    method's default carrier), or with the published parameters and carrier (``params="thesis"``).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     mesh = as_mesh(V, F)
     w = _weld(mesh, weld)
     mesh = w.mesh if w is not None else mesh

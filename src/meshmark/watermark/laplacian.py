@@ -89,7 +89,9 @@ def _triangles(mesh: Mesh, carrier: str = "normal") -> np.ndarray:
 
 
 def mean_edge_length(V: np.ndarray, E: np.ndarray) -> float:
-    """Mean edge length (model units): the scale unit of the normalised Laplacian lengths."""
+    """Mean edge length (model units): the scale unit of the normalised Laplacian lengths.
+
+    ``V`` (n, 3) float64 positions, ``E`` (e, 2) integer edges."""
     return float(_core.mean_edge_length(V, E))
 
 
@@ -241,7 +243,9 @@ framework.register(METHOD)
 
 
 def capacity(V: MeshLike, F: FacesLike = None, **params: Any) -> int:
-    """Carrier bits (valid bin pairs, eq. 7.1.8) before coding; ``params``/``n_data`` as in :func:`meshmark.watermark.framework.capacity`."""
+    """Carrier bits (valid bin pairs, eq. 7.1.8) before coding; ``params``/``n_data`` as in :func:`meshmark.watermark.framework.capacity`.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.capacity(V, F, method=NAME, **params)
 
 
@@ -258,14 +262,19 @@ def embed(V: MeshLike, F: FacesLike = None, payload: str | bytes | None = None, 
 
 def extract(V: MeshLike, F: FacesLike = None, keyfile: Keyfile | PathLike | None = None,
             key: str | int | None = None, progress: Progress = None) -> framework.ExtractResult:
-    """Blind extraction and detection with a keyfile written by :func:`embed`."""
+    """Blind extraction and detection with a keyfile written by :func:`embed`.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.extract(V, F, keyfile=keyfile, key=key, progress=progress)
 
 
 def extract_blind(V: MeshLike, F: FacesLike = None, K: int | None = None, n_thr: int = 46, eps: float = 1e-5,
                   thesis_exact: bool = True) -> np.ndarray:
     """The thesis' extraction with no side information at all (§7.3): bins from the mesh's own
-    d_min/d_max, carriers = pairs with f >= n_thr, in order. Returns the raw bits (0/1, 1 = +1)."""
+    d_min/d_max, carriers = pairs with f >= n_thr, in order. Returns the raw bits (0/1, 1 = +1).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
+    Returns (c,) uint8."""
     mesh = as_mesh(V, F)
     p = METHOD.resolve(mesh, {"K": K, "n_thr": n_thr, "eps": eps, "thesis_exact": thesis_exact})
     ids, side = METHOD.carriers(mesh, p)

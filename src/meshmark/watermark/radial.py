@@ -128,20 +128,26 @@ framework.register(METHOD)
 
 
 def capacity(V: MeshLike, F: FacesLike = None, **params: Any) -> int:
-    """Number of embeddable pairs (eq. 6.1.4) = carrier bits, before framing (16 bits) is subtracted."""
+    """Number of embeddable pairs (eq. 6.1.4) = carrier bits, before framing (16 bits) is subtracted.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.capacity(V, F, method=NAME, **params)
 
 
 def embed(V: MeshLike, F: FacesLike = None, payload: str | bytes | None = None, key: str | int | None = None,
           progress: Progress = None, **params: Any) -> framework.EmbedResult:
     """Embed ``payload`` under ``key``. Parameters: ``K`` (400), ``n_thr`` (Table 6.1 / rule),
-    ``origin_mode`` ("axis" or "vertices"), ``origin_iters`` (0)."""
+    ``origin_mode`` ("axis" or "vertices"), ``origin_iters`` (0).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.embed(V, F, payload=payload, key=key, method=NAME, progress=progress, **params)
 
 
 def extract(V: MeshLike, F: FacesLike = None, keyfile: Keyfile | PathLike | None = None,
             key: str | int | None = None, progress: Progress = None) -> framework.ExtractResult:
-    """Blind extraction and detection with a keyfile written by :func:`embed`."""
+    """Blind extraction and detection with a keyfile written by :func:`embed`.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.extract(V, F, keyfile=keyfile, key=key, progress=progress)
 
 

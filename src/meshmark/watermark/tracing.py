@@ -263,7 +263,9 @@ def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, ke
 
     ``original``: the original (a path or a Mesh); without it the path recorded by :func:`issue` is
     tried, and an original whose digest differs from the registry's is not used (blind only). A given
-    original that matches no asset of the registry is a MeshError."""
+    original that matches no asset of the registry is a MeshError.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     from ..io import read_mesh
 
     mesh0 = as_mesh(V, F)
