@@ -68,8 +68,7 @@ def read_mesh(path: str | os.PathLike, *, drop_collapsed: bool = True,
 
 
 def write_mesh(path: str | os.PathLike, V: MeshLike, F: FacesLike = None, *, binary: bool = True, float32: bool = False,
-               precision: int = 17, decimals: int | None = None, source: dict[str,
-               Any] | GltfInfo | None = None) -> None:
+               precision: int = 17, decimals: int | None = None, source: GltfInfo | None = None) -> None:
     """Write a mesh (a :class:`Mesh`, or ``V`` and ``F``) to .obj, .off, .ply, .stl, .glb or .gltf.
 
     Parameters

@@ -303,9 +303,8 @@ def task_kind(spec):
 
 def run(spec: Spec | PathLike | dict[str, Any], out: PathLike, *, workers: int | None = None,
         dask: str | None = None, progress: bool | None = None,
-        retries: int = 1, ship_meshes: bool = False, chunk_size: int | None = None, log: Callable[[str],
-        None] | None = None,
-        max_tasks: int | None = None) -> Summary:
+        retries: int = 1, ship_meshes: bool = False, chunk_size: int | None = None,
+        log: Callable[[str], None] | None = None, max_tasks: int | None = None) -> Summary:
     """Run (or resume) the study ``spec`` (path, TOML text, dict or Spec) with results under ``out``."""
     log = log or (lambda s: print(s, file=sys.stderr, flush=True))
     if dask:  # before anything is planned or written

@@ -46,8 +46,8 @@ DEFAULT = ["nc", "cdr", "detection", "message", "capacity", "rmse"]
 
 
 def register_measurement(name: str, columns: dict, needs_mark: bool = False,
-                         description: str = "") -> Callable[[Callable[..., dict[str, Any]]], Callable[..., dict[str,
-                         Any]]]:
+                         description: str = "") -> Callable[[Callable[..., dict[str, Any]]],
+                                                            Callable[..., dict[str, Any]]]:
     """Decorator: register ``fn(ctx) -> dict`` under ``name`` with its declared ``columns``."""
     def deco(fn):
         MEASUREMENTS[name] = Measurement(name, dict(columns), fn, needs_mark, description or (fn.__doc__ or "").strip())

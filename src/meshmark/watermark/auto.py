@@ -85,7 +85,7 @@ def _evaluate(mesh, m, given: dict):
 
 
 def choose(mesh: Mesh, m: Any, params: Any, method_params: dict, n_data: int | None,
-           need: int = None) -> tuple[dict[str, Any], IntArray, Any, dict[str, Any]]:
+           need: int | None = None) -> tuple[dict[str, Any], IntArray, Any, dict[str, Any]]:
     """(params, carrier ids, side info, choice record) for method ``m`` on ``mesh``.
 
     ``params``: "auto", "thesis", or a dict of explicit parameters (merged with ``method_params``);
@@ -124,8 +124,8 @@ def choose(mesh: Mesh, m: Any, params: Any, method_params: dict, n_data: int | N
 FALLBACK_PARAMS = {"laplacian": {"carrier": "thesis"}}
 
 
-def fallbacks(mesh: Mesh, m: Any, method_params: dict, choice: dict) -> Iterator[tuple[dict[str, Any], IntArray, Any,
-              dict[str, Any]]]:
+def fallbacks(mesh: Mesh, m: Any, method_params: dict,
+              choice: dict) -> Iterator[tuple[dict[str, Any], IntArray, Any, dict[str, Any]]]:
     """What to try, in turn, when the chosen rung's mark does not take on the mesh (rare; e.g. many
     small parts of 36-gons): the later rungs that also fit the payload, then (if the user did not
     choose it) the method's fallback carrier (:data:`FALLBACK_PARAMS`) with its own ladder. Each item is

@@ -123,7 +123,7 @@ class ExtractResult:
     bits: np.ndarray = None  # (n_coded,) extracted coded bits (0/1), after un-whitening
     n_vertices: int = 0      # vertices the method saw (after welding, if the keyfile welds)
     n_merged: int = 0        # input vertices merged into a coincident copy by welding
-    expected_vertices: int = None  # the keyfile's count (None if it has none)
+    expected_vertices: int | None = None  # the keyfile's count (None if it has none)
 
     @property
     def same_vertex_count(self) -> bool:
@@ -147,9 +147,8 @@ def _weld(mesh: Mesh, weld) -> Welded | None:
     return weld_vertices(mesh) if weld else None
 
 
-def capacity(V: MeshLike, F: FacesLike = None, method: str = "laplacian", weld: bool = True, params: str | dict[str,
-             Any] = "auto", n_data: int = None,
-             **method_params: Any) -> int:
+def capacity(V: MeshLike, F: FacesLike = None, method: str = "laplacian", weld: bool = True,
+             params: str | dict[str, Any] = "auto", n_data: int | None = None, **method_params: Any) -> int:
     """Number of carrier bits the mesh offers to ``method`` (before coding), on the welded mesh unless
     ``weld=False``: with the parameters ``params="auto"`` (the default) chooses for a payload of
     ``n_data`` bits (:mod:`.auto`; without ``n_data``, its first rung: the published numbers with the

@@ -37,7 +37,7 @@ import secrets
 import numpy as np
 
 from .._core import MeshError
-from ..mesh import as_mesh, FacesLike, MeshLike, MeshPair
+from ..mesh import as_mesh, FacesLike, MeshLike
 from ..metrics import false_alarm_probability
 from . import informed as _informed
 from . import keys as _keys
@@ -47,7 +47,7 @@ from .keyfile import Keyfile
 from .methods import method_named
 from .registry import MAX_COPIES, SCHEMA_VERSION, WAIT, Registry, check_copy_id, key_hash  # noqa: F401
 from .._typing import PathLike, Progress
-from typing import Callable, Sequence
+from typing import Sequence
 from typing import Any
 
 # params="auto" for copies: the first rung of the ladder with at least 64 carriers (27 certify one
@@ -84,12 +84,11 @@ def _plan_ids(n_copies, ids) -> list | None:
     return ids
 
 
-def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLike | Registry, n_copies: int = None,
-          ids: Sequence[int] | None = None, method: str = "laplacian", params: str | dict[str, Any] = "auto",
-          weld: bool = True, store_key: bool = True, source_name: str = "", progress: Progress = None,
-          original: MeshPair | PathLike | None = None,
-          informed: bool = True, sink: Callable[[int, Mesh, dict[str, Any]], None] | None = None, wait: float = WAIT,
-          **method_params: Any) -> dict[str, Any]:
+def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLike | Registry,
+          n_copies: int | None = None, ids: Sequence[int] | None = None, method: str = "laplacian",
+          params: str | dict[str, Any] = "auto", weld: bool = True, store_key: bool = True, source_name: str = "",
+          progress: Progress = None, original: PathLike | None = None, informed: bool = True, sink: Any = None,
+          wait: float = WAIT, **method_params: Any) -> dict[str, Any]:
     """Mark copies of the mesh, each with its own random codeword; record them in ``registry`` (a
     path or :class:`Registry`). Give ``n_copies`` (1..MAX_COPIES; numbered after the asset's largest numeric id:
     ``0001``, ...) or ``ids`` (strings usable in a file name, unique within the asset; the same id
@@ -253,7 +252,7 @@ def set_paths(registry: PathLike | Registry, paths: dict, asset_id: int | None =
 
 
 def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, key: str | int | None = None,
-          original: MeshPair | PathLike | None = None) -> dict:
+          original: Mesh | PathLike | None = None) -> dict:
     """Which issued copy is this mesh? Returns a dict with ``detected``, ``copy`` (id or None),
     ``p_false_alarm`` (corrected for every codeword compared and, when the original was used, for the
     two tests), ``evidence`` (``"informed+blind"`` or ``"blind"``), ``matches``, ``n_carriers``,
