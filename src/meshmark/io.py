@@ -9,14 +9,17 @@ float PLY and STL.
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import _core
 from ._core import MeshError
-from .mesh import as_mesh, FacesLike, Mesh, MeshLike
 from ._typing import ArrayLike, PathLike
-from typing import Any
+from .mesh import as_mesh, FacesLike, Mesh, MeshLike
+
+if TYPE_CHECKING:  # pygltflib is imported on first use of a glTF file
+    from .gltf.reader import GltfInfo
 
 
 def _native_path(path) -> bytes:

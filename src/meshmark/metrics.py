@@ -151,7 +151,7 @@ def min_dihedral_angles(V: MeshLike, F: FacesLike = None) -> np.ndarray:
 
 def normal_degradation(V: MeshLike, V2: ArrayLike, F: FacesLike = None, *, weighting: str = "mean", mu: float = 0.0,
                        sigma: float = 3.5,
-                       degrees: bool = False, return_details: bool = False) -> float | dict[str, Any]:
+                       degrees: bool = False, return_details: bool = False) -> float | tuple[float, dict[str, Any]]:
     """dis(M, M') of eq. 3.2.2: ``sum_i w_i angle(n_i, n'_i) / sum_i w_i`` over the triangles.
 
     M = (V, F), M' = (V2, F): the same faces (a Mesh for V supplies F; V2 may be a Mesh or an array).

@@ -44,7 +44,7 @@ def _mask(x, n: int, name: str) -> np.ndarray:
     return m
 
 
-def curvature_degradation(mesh: MeshPair, t: Sequence[int] = SWEEP_LEVELS, direction: str = "normal", *,
+def curvature_degradation(mesh: MeshPair, t: ArrayLike = SWEEP_LEVELS, direction: str = "normal", *,
                           seed: int = 0, repeats: int = 1,
                           scale: float | None = None, moved: ArrayLike | None = None,
                           measured: ArrayLike | None = None) -> np.ndarray:
@@ -97,7 +97,7 @@ def fit_linear(t: ArrayLike, kappa_dif: ArrayLike, *, t_min: int = 12) -> dict:
     return {"a": float(a), "b": float(b), "r2": 1 - float((res ** 2).sum()) / ss if ss > 0 else 1.0, "n": int(ok.sum())}
 
 
-def curvature_model(mesh: MeshPair, t: Sequence[int] = SWEEP_LEVELS, *, seed: int = 0, repeats: int = 1,
+def curvature_model(mesh: MeshPair, t: ArrayLike = SWEEP_LEVELS, *, seed: int = 0, repeats: int = 1,
                     t_min: int = 12,
                     directions: Sequence[str] = DIRECTIONS) -> dict:
     """The §5.2 experiment on one mesh: kappa_dif(t) per direction and the eq. 5.2.4 fit over
@@ -128,14 +128,16 @@ def hexagonal_pyramid(height: float = 1.0, radius: float = 1.0) -> tuple[FloatAr
     return V, F
 
 
-def pyramid_experiment(t: Sequence[int] = tuple(range(0, 41)), *, repeats: int = 2000, seed: int = 0, t_min: int = 2,
+def pyramid_experiment(t: ArrayLike = tuple(range(0, 41)), *, repeats: int = 2000, seed: int = 0, t_min: int = 2,
                        t_max: int = 20) -> dict:
     """Fig. 5.5: noise of mean strength 2^-t (model units: height = radius = 1) added to the apex only,
     in the normal (the axis) and in a tangential direction; the mean |kappa' - kappa| at the apex over
     ``repeats`` draws, and the slopes of log2 kappa_dif over t_min <= t <= t_max: the tangential
     change is O(eps^2) and reaches the precision of the angle sums (~2^-50) near t = 24, where the
     curve levels off as the thesis notes; the window stays below that. Returns ``{"t", "normal", "tangential",
-    "fit": {direction: {"a", "b", "r2", "n"}}, "slope_ratio": a_tangential / a_normal}``."""
+    "fit": {direction: {"a", "b", "r2", "n"}}, "slope_ratio": a_tangential / a_normal}``.
+
+    ``t``: (k,) integer levels; ``normal`` and ``tangential`` are (k,) lists of radians."""
     V, F = hexagonal_pyramid()
     out = {"t": [int(x) for x in t], "fit": {}}
     for d in ("normal", "tangential"):

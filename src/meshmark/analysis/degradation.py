@@ -49,7 +49,7 @@ def _levels(t, lo: int, hi: int, name: str = "t") -> np.ndarray:
     return np.ascontiguousarray(a, dtype=np.int32)
 
 
-def degradation_curve(mesh: MeshPair, t: Sequence[int] = range(65), *, seed: int = 0, repeats: int = 1) -> dict:
+def degradation_curve(mesh: MeshPair, t: ArrayLike = range(65), *, seed: int = 0, repeats: int = 1) -> dict:
     """dis(M, M^t) of eq. 3.2.2, radians, for each level ``t`` (0..64 bits of the double kept, §3.2.1):
     ``{"t": (k,), "mean"/"area"/"dihedral": (k,), "variance": {weighting: (k,)} (over ``repeats``),
     "excluded": (k,) fraction of triangles without a finite normal in M^t}``. Deterministic for a seed;
@@ -108,7 +108,7 @@ def logistic_level(a: float, b: float, C: float, tolerance: float) -> int:
 
 
 def degradation_model(mesh: MeshPair, tolerances: Sequence[float] = (1.0, 5.0, 10.0), *, seed: int = 0,
-                      t: Sequence[int] = FIT_LEVELS, repeats: int = 1) -> dict:
+                      t: ArrayLike = FIT_LEVELS, repeats: int = 1) -> dict:
     """The ch. 3 analysis of one mesh: the samples at ``t`` (default 12, 16, 20, 24, 28), the logistic
     fit per weighting and the level per tolerance. Returns ``{weighting: {"a", "b", "C", "t": {tol:
     level}, "samples": [...]}, "levels_fitted": [...], "seed": seed}``."""

@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from .._core import MeshError
-from ..mesh import as_mesh, MeshPair
+from ..mesh import as_mesh, Mesh, MeshPair
 from .registry import ATTACKS, parameters, takes_seed
 from typing import Any, Sequence
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import _core
 from .._core import MeshError
-from ..mesh import as_mesh
+from ..mesh import as_mesh, Mesh
 from .._typing import ArrayLike
 
 

@@ -26,6 +26,7 @@ from .. import ranges as _ranges
 from ..ranges import check_bool, check_float, check_int
 from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
 from . import framework
+from .keyfile import Keyfile
 from .._typing import PathLike, Progress
 from typing import Any
 

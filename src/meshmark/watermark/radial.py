@@ -27,6 +27,7 @@ from .._core import MeshError
 from ..ranges import check_int
 from ..mesh import FacesLike, Mesh, MeshLike, vertices_and_mask
 from . import framework
+from .keyfile import Keyfile
 from .._typing import ArrayLike, FloatArray, IntArray, PathLike, Progress, UInt8Array
 from typing import Any
 

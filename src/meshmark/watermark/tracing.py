@@ -37,7 +37,7 @@ import secrets
 import numpy as np
 
 from .._core import MeshError
-from ..mesh import as_mesh, FacesLike, MeshLike
+from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
 from ..metrics import false_alarm_probability
 from . import informed as _informed
 from . import keys as _keys
@@ -46,7 +46,7 @@ from .informed import source_digest  # noqa: F401  (tracing.source_digest: part 
 from .keyfile import Keyfile
 from .methods import method_named
 from .registry import MAX_COPIES, SCHEMA_VERSION, WAIT, Registry, check_copy_id, key_hash  # noqa: F401
-from .._typing import PathLike, Progress
+from .._typing import FloatArray, PathLike, Progress
 from typing import Sequence
 from typing import Any
 
@@ -85,15 +85,16 @@ def _plan_ids(n_copies, ids) -> list | None:
 
 
 def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLike | Registry,
-          n_copies: int | None = None, ids: Sequence[int] | None = None, method: str = "laplacian",
+          n_copies: int | None = None, ids: Sequence[str] | None = None, method: str = "laplacian",
           params: str | dict[str, Any] = "auto", weld: bool = True, store_key: bool = True, source_name: str = "",
           progress: Progress = None, original: PathLike | None = None, informed: bool = True, sink: Any = None,
-          wait: float = WAIT, **method_params: Any) -> dict[str, Any]:
+          wait: float = WAIT,
+          **method_params: Any) -> list[tuple[str, FloatArray]] | list[tuple[str, str]]:
     """Mark copies of the mesh, each with its own random codeword; record them in ``registry`` (a
     path or :class:`Registry`). Give ``n_copies`` (1..MAX_COPIES; numbered after the asset's largest numeric id:
     ``0001``, ...) or ``ids`` (strings usable in a file name, unique within the asset; the same id
-    may be used by another asset). Returns a list of ``(copy_id, V)`` with V the marked vertices
-    (input order), or with ``sink`` a list of ``(copy_id, path)``.
+    may be used by another asset). Returns a list of ``(copy_id, V)`` with V the (n, 3) float64 marked
+    vertices (input order), or with ``sink`` a list of ``(copy_id, path)``.
 
     The whole issue is one write transaction of the registry (``BEGIN IMMEDIATE``): a second issue
     into the same registry waits up to ``wait`` seconds and then numbers its copies after this one's.
