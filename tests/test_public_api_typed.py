@@ -5,7 +5,8 @@ export walked the same way (their ``__all__``, else the public names they define
 method and property: every parameter and the return carry an annotation, the annotations resolve
 (``typing.get_type_hints``: a misspelt or unimported name fails), there is a docstring, and a function
 that takes or returns arrays (numpy.typing hints, a mesh as ``(V, F)``) states their shapes in it, e.g.
-``(n, 3)``. Removing a hint or a shape from a docstring fails this test.
+``(n, 3)``; one that takes a physical quantity or a tolerance (an angle, a strength, a length) names
+its unit. Removing a hint, a shape or a unit from a docstring fails this test.
 """
 from __future__ import annotations
 
@@ -113,3 +114,18 @@ def test_documented_with_shapes(name):
 def _class_doc(name):
     modname, cls, _ = name.rsplit(".", 2)
     return inspect.getdoc(getattr(importlib.import_module(modname), cls))
+
+
+# parameters that carry a physical quantity or a tolerance: the docstring must say in what unit
+UNIT_PARAMS = {"tolerance", "tolerances", "angle", "degrees", "strength", "edge_length", "translation", "height",
+               "radius", "rel_tol", "abs_tol", "factor", "width", "joint", "eps", "l", "lam", "fraction", "offset",
+               "center", "wait"}
+UNIT = re.compile(r"degree|radian|\bdeg\b|mesh units|model units|\bbits?\b|fraction|seconds|bytes|%|unitless|"
+                  r"relative|diagonal|units", re.I)
+
+
+@pytest.mark.parametrize("name", sorted(n for n, f in FUNCTIONS.items() if not _generated(f)
+                                        and set(inspect.signature(f).parameters) & UNIT_PARAMS))
+def test_units_stated(name):
+    doc = inspect.getdoc(FUNCTIONS[name]) or ""
+    assert UNIT.search(doc), f"{name}: takes a quantity but its docstring names no unit (degrees, mesh units, ...)"

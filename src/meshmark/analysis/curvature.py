@@ -121,7 +121,7 @@ def curvature_model(mesh: MeshPair, t: ArrayLike = SWEEP_LEVELS, *, seed: int = 
 def hexagonal_pyramid(height: float = 1.0, radius: float = 1.0) -> tuple[FloatArray, IntArray]:
     """The regular right hexagonal pyramid of Fig. 5.5: apex (0, 0, height) = vertex 0, base hexagon of
     circumradius ``radius`` in z = 0 (vertices 1..6), the 6 side triangles (no base, so only the apex
-    is interior). Returns (V, F)."""
+    is interior). ``height`` and ``radius`` in mesh units. Returns (V (7, 3) float64, F (6, 3) int)."""
     ang = np.arange(6) * np.pi / 3
     V = np.r_[[[0.0, 0.0, float(height)]], np.c_[radius * np.cos(ang), radius * np.sin(ang), np.zeros(6)]]
     F = np.array([[0, 1 + k, 1 + (k + 1) % 6] for k in range(6)])

@@ -110,7 +110,8 @@ def logistic_level(a: float, b: float, C: float, tolerance: float) -> int:
 def degradation_model(mesh: MeshPair, tolerances: Sequence[float] = (1.0, 5.0, 10.0), *, seed: int = 0,
                       t: ArrayLike = FIT_LEVELS, repeats: int = 1) -> dict:
     """The ch. 3 analysis of one mesh: the samples at ``t`` (default 12, 16, 20, 24, 28), the logistic
-    fit per weighting and the level per tolerance. Returns ``{weighting: {"a", "b", "C", "t": {tol:
+    fit per weighting and the level per tolerance (degrees, as :func:`logistic_level`). Returns
+    ``{weighting: {"a", "b", "C", "t": {tol:
     level}, "samples": [...]}, "levels_fitted": [...], "seed": seed}``."""
     tol = [positive(x, "tolerance") for x in tolerances]
     curve = degradation_curve(mesh, t, seed=seed, repeats=repeats)

@@ -70,7 +70,8 @@ def monte_carlo_angle(r: float, n: int = 10 ** 6, seed: int = 0) -> tuple[float,
 def estimate_eta(n: int = 10 ** 6, l: float = 2.0 ** -10, seed: int = 0) -> tuple[float, float]:
     """eta of eq. 4.1.16 as the thesis estimated it: noise U[-l, l]^3 on the three vertices of an
     equilateral triangle of side 1 (in the xy-plane), the mean normal change divided by
-    E(theta_1) + E(theta_2) + E(theta_3) = 3 E(l / h), h = sqrt(3)/2. Returns ``(eta, standard error)``."""
+    E(theta_1) + E(theta_2) + E(theta_3) = 3 E(l / h), h = sqrt(3)/2. Returns ``(eta, standard error)``.
+    ``l`` is in the units of that triangle (side 1: a fraction of its side); eta is unitless."""
     l = positive(l, "l")
     P = np.array([[0.0, 0, 0], [1, 0, 0], [0.5, math.sqrt(3) / 2, 0]])
     mean, se, _ = _core.normal_noise_monte_carlo(P, np.array([1, 1, 1], np.int32), l, int(n), seed_value(seed))

@@ -188,8 +188,8 @@ def smooth(V: MeshLike, F: FacesLike = None, *, lam: float = 0.02, iterations: i
     ``weights="uniform"``: the plain average of the edge-graph neighbours (polygons as stored; the
     thesis' attack, lambda = 0.02 with 10/30/50 iterations). ``weights="cotangent"``: the
     cotangent-weighted average (weights clamped at 0, recomputed each step, on the triangulation).
-    ``lam = 0`` (or 0 iterations) is the identity; isolated vertices never move; with ``fix_boundary``
-    the boundary vertices stay put. MeshError for negative iterations or a non-finite lambda.
+    ``lam`` is unitless (the fraction of the way to the average per step); ``lam = 0`` (or 0 iterations)
+    is the identity; isolated vertices never move; with ``fix_boundary`` the boundary vertices stay put. MeshError for negative iterations or a non-finite lambda.
     """
     m = as_mesh(V, F)
     lam = _finite(lam, "lambda")

@@ -75,7 +75,9 @@ def check_options(K_min: int = 1, K_max: int = 500, rule: str | None = None, fal
                   min_bins: int = 8, thesis_exact: bool = False, false_reject: float = 0.01) -> dict:
     """Every option of :func:`analyze` against its documented range (docs/radial.md §3.3), before any
     work: a :class:`~meshmark.ranges.ParameterError` naming the option otherwise. Returns them resolved
-    (``rule`` None -> "thesis" with ``thesis_exact``, else "margin")."""
+    (``rule`` None -> "thesis" with ``thesis_exact``, else "margin"). ``eps`` and ``eps2`` are unitless
+    tolerances on the normalised bin means (in [0, 1]) and on cluster sizes; ``false_alarm`` and
+    ``false_reject`` are probabilities."""
     o = {"K_min": check_int("K_min", K_min, 1, MAX_K_SCAN), "K_max": check_int("K_max", K_max, 1, MAX_K_SCAN)}
     if o["K_max"] < o["K_min"]:
         raise ParameterError("K_max", f"K_max must be at least K_min = {o['K_min']}, got {o['K_max']}")
