@@ -1,6 +1,7 @@
 """meshmark: information hiding and detection in 3D triangle meshes.
 
-A thin Python layer over a native C++ core (``meshmark._core``). Arrays go in and out as numpy:
+A Python package over a native C++ core (``meshmark._core``: the per-vertex and per-face work; checking,
+keyfiles, coding, studies and glTF are Python). Arrays go in and out as numpy:
 vertices ``V`` are ``(n, 3) float64`` in model units, faces are either an ``(m, k)`` integer array or
 a :class:`Mesh` holding polygons of mixed sizes. The package never imports ``bpy``.
 

@@ -8,10 +8,11 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
-from .mesh import _as_vertices, as_mesh
+from .mesh import as_mesh, FacesLike, MeshLike, _as_vertices
+from typing import Any
 
 
-def triangulate(V, F=None) -> tuple[np.ndarray, np.ndarray]:
+def triangulate(V: MeshLike, F: FacesLike = None) -> tuple[np.ndarray, np.ndarray]:
     """Deterministic triangulation: ``(T (t, 3) int32, face (t,) int32 source polygon)``.
 
     Triangles are kept; other polygons are ear-clipped in the plane of their Newell normal, first
@@ -26,22 +27,22 @@ def _triangles(V, F):
     return m.V, np.ascontiguousarray(m.triangles)
 
 
-def face_normals(V, F=None) -> np.ndarray:
+def face_normals(V: MeshLike, F: FacesLike = None) -> np.ndarray:
     """(t, 3) unit normals of the triangles (zero vector for zero-area triangles)."""
     return _core.face_normals(*_triangles(V, F))
 
 
-def face_areas(V, F=None) -> np.ndarray:
+def face_areas(V: MeshLike, F: FacesLike = None) -> np.ndarray:
     """(t,) triangle areas."""
     return _core.face_areas(*_triangles(V, F))
 
 
-def interior_angles(V, F=None) -> np.ndarray:
+def interior_angles(V: MeshLike, F: FacesLike = None) -> np.ndarray:
     """(t, 3) interior angle at each triangle corner, radians."""
     return _core.interior_angles(*_triangles(V, F))
 
 
-def dihedral_angles(V, F=None) -> tuple[np.ndarray, np.ndarray]:
+def dihedral_angles(V: MeshLike, F: FacesLike = None) -> tuple[np.ndarray, np.ndarray]:
     """Angle between the normals of the two triangles on each edge: ``(E (e, 2), angle (e,))``.
 
     0 for coplanar faces; NaN on boundary and non-manifold edges.
@@ -49,12 +50,12 @@ def dihedral_angles(V, F=None) -> tuple[np.ndarray, np.ndarray]:
     return _core.dihedral_angles(*_triangles(V, F))
 
 
-def angle_sum(V, F=None) -> np.ndarray:
+def angle_sum(V: MeshLike, F: FacesLike = None) -> np.ndarray:
     """(n,) sum of incident interior angles per vertex; ``2*pi - angle_sum`` is the angle deficit."""
     return _core.angle_sum(*_triangles(V, F))
 
 
-def pca(V) -> dict:
+def pca(V: MeshLike) -> dict:
     """Principal component analysis of points (a Mesh uses all its vertices).
 
     Returns a dict with ``centroid`` (3,), ``axes`` (3, 3) whose columns are q1, q2, q3,

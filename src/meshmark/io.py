@@ -9,12 +9,17 @@ float PLY and STL.
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import _core
 from ._core import MeshError
-from .mesh import Mesh, as_mesh
+from ._typing import ArrayLike, PathLike
+from .mesh import as_mesh, FacesLike, Mesh, MeshLike
+
+if TYPE_CHECKING:  # pygltflib is imported on first use of a glTF file
+    from .gltf.reader import GltfInfo
 
 
 def _native_path(path) -> bytes:
@@ -25,7 +30,8 @@ def _native_path(path) -> bytes:
     return os.fsencode(path)
 
 
-def read_mesh(path: str | os.PathLike, *, drop_collapsed: bool = True, return_info: bool = False):
+def read_mesh(path: str | os.PathLike, *, drop_collapsed: bool = True,
+              return_info: bool = False) -> Mesh | tuple[Mesh, dict[str, Any]]:
     """Read a mesh file (format from the extension: .obj .off .ply .stl .glb .gltf).
 
     A glTF asset reads as one mesh: every triangle primitive of every mesh, positions in each
@@ -64,8 +70,8 @@ def read_mesh(path: str | os.PathLike, *, drop_collapsed: bool = True, return_in
     return mesh
 
 
-def write_mesh(path: str | os.PathLike, V, F=None, *, binary: bool = True, float32: bool = False,
-               precision: int = 17, decimals: int | None = None, source=None) -> None:
+def write_mesh(path: str | os.PathLike, V: MeshLike, F: FacesLike = None, *, binary: bool = True, float32: bool = False,
+               precision: int = 17, decimals: int | None = None, source: GltfInfo | None = None) -> None:
     """Write a mesh (a :class:`Mesh`, or ``V`` and ``F``) to .obj, .off, .ply, .stl, .glb or .gltf.
 
     Parameters
@@ -100,7 +106,7 @@ def write_mesh(path: str | os.PathLike, V, F=None, *, binary: bool = True, float
                      float32=float32, precision=precision, decimals=-1 if decimals is None else decimals)
 
 
-def mesh_outputs(path, V, mesh: Mesh, info: dict | None = None) -> list:
+def mesh_outputs(path: PathLike, V: ArrayLike, mesh: Mesh, info: dict | None = None) -> list:
     """``[(path, writer)]`` pairs for :func:`meshmark.atomic.write_all` that write the mesh ``mesh``
     with positions ``V`` to ``path``, as read with ``read_mesh(..., return_info=True)`` (``info``):
 

@@ -12,9 +12,12 @@ call :func:`meshmark.triangulate` (deterministic, see ``docs/mesh_model.md``).
 """
 from __future__ import annotations
 
+from typing import Any, Callable, Sequence, Union
+
 import numpy as np
 
 from . import _core
+from ._typing import ArrayLike, FloatArray, IntArray, UInt8Array
 from ._core import MeshError
 
 _INT32_MAX = np.iinfo(np.int32).max
@@ -100,7 +103,9 @@ class Mesh:
 
     __slots__ = ("V", "face_indices", "face_offsets", "_topology")
 
-    def __init__(self, V, F, *, validate: bool = True):
+    def __init__(self, V: ArrayLike, F: ArrayLike, *, validate: bool = True) -> None:
+        """Validated mesh from ``V`` (n, 3) float64 positions (mesh units) and ``F`` (m, k) integer faces or a list of
+        polygons."""
         self.V = _as_vertices(V)
         self.face_indices, self.face_offsets = _as_polygons(F)
         self._topology = {}
@@ -108,8 +113,9 @@ class Mesh:
             _core.validate(self.V, self.face_indices, self.face_offsets)
 
     @classmethod
-    def from_polygons(cls, V, indices, offsets, *, validate: bool = True) -> "Mesh":
-        """Build from the flat corner layout (``indices``, ``offsets``), e.g. Blender's loops."""
+    def from_polygons(cls, V: ArrayLike, indices: ArrayLike, offsets: ArrayLike, *, validate: bool = True) -> "Mesh":
+        """Build from the flat corner layout, e.g. Blender's loops: ``V`` (n, 3) float64 positions in mesh
+        units, ``indices`` (c,) integer corners face after face, ``offsets`` (m + 1,) integer starts."""
         m = cls.__new__(cls)
         m.V = _as_vertices(V)
         idx = np.asarray(indices)
@@ -128,23 +134,26 @@ class Mesh:
     # --- sizes -------------------------------------------------------------------------------
     @property
     def n_vertices(self) -> int:
+        """n, the number of rows of the (n, 3) ``V`` (unreferenced vertices included)."""
         return int(self.V.shape[0])
 
     @property
     def n_faces(self) -> int:
+        """m, the number of faces (polygons; the (m + 1,) ``face_offsets`` minus one)."""
         return int(self.face_offsets.shape[0] - 1)
 
     @property
-    def face_sizes(self) -> np.ndarray:
+    def face_sizes(self) -> IntArray:
         """(m,) number of corners of each face."""
         return np.diff(self.face_offsets)
 
     @property
     def is_triangle_mesh(self) -> bool:
+        """Whether every face has 3 corners (then ``F`` is (m, 3) int32)."""
         return bool(self.n_faces and (self.face_sizes == 3).all())
 
     @property
-    def F(self) -> np.ndarray:
+    def F(self) -> IntArray:
         """(m, k) int32 faces when every face has k corners; MeshError for mixed polygon sizes."""
         sizes = self.face_sizes
         if sizes.size == 0:
@@ -156,27 +165,27 @@ class Mesh:
         return self.face_indices.reshape(-1, k)
 
     @property
-    def triangles(self) -> np.ndarray:
+    def triangles(self) -> IntArray:
         """(t, 3) int32 triangles (polygons triangulated deterministically, triangles as they are)."""
         if self.is_triangle_mesh:
             return self.face_indices.reshape(-1, 3)
         return _core.triangulate(self.V, self.face_indices, self.face_offsets)[0]
 
     # --- topology (cached: faces are treated as immutable once in a Mesh) ---------------------
-    def edges(self) -> np.ndarray:
+    def edges(self) -> IntArray:
         """(e, 2) int32 unique edges (i < j) of the polygon edge graph, computed once per face set
         and shared by the meshes made with :meth:`with_vertices`."""
         if "edges" not in self._topology:
             self._topology["edges"] = _core.unique_edges(self.n_vertices, self.face_indices, self.face_offsets)[0]
         return self._topology["edges"]
 
-    def referenced(self) -> np.ndarray:
+    def referenced(self) -> UInt8Array:
         """(n,) uint8: 1 for the vertices used by a face (cached like :meth:`edges`)."""
         if "referenced" not in self._topology:
             self._topology["referenced"] = _core.referenced_mask(self.n_vertices, self.face_indices)
         return self._topology["referenced"]
 
-    def cached(self, key, compute):
+    def cached(self, key: Any, compute: Callable[[], Any]) -> Any:
         """``compute()`` for these positions and faces, remembered for the two most recent vertex
         arrays on this face set (matched by identity and checksum, so an array edited in place is
         recomputed): lets embed, its verification and extract share per-vertex work."""
@@ -191,9 +200,10 @@ class Mesh:
         return value
 
     def copy(self) -> "Mesh":
+        """A deep copy: (n, 3) float64 ``V`` and the (c,) / (m + 1,) face arrays copied."""
         return Mesh.from_polygons(self.V.copy(), self.face_indices.copy(), self.face_offsets.copy(), validate=False)
 
-    def with_vertices(self, V) -> "Mesh":
+    def with_vertices(self, V: ArrayLike) -> "Mesh":
         """Same faces, new (n, 3) positions (validated)."""
         V = _as_vertices(V)
         if V.shape[0] != self.n_vertices:
@@ -208,9 +218,18 @@ class Mesh:
         return f"Mesh({self.n_vertices} vertices, {self.n_faces} faces: {kinds})"
 
 
-def as_mesh(V, F=None) -> Mesh:
-    """Return a :class:`Mesh` from a Mesh (``F`` must be None), from ``(V, F)`` arrays, or from
-    new positions ``V`` on the faces of a Mesh ``F``."""
+#: ``V`` of the functions taking ``(V, F=None)``: a :class:`Mesh` (then ``F`` is None) or (n, 3) positions.
+MeshLike = Union[Mesh, ArrayLike]
+#: ``F``: (m, k) integer faces, a list of polygons, a :class:`Mesh` whose faces to use, or None (``V`` a Mesh).
+FacesLike = Union[Mesh, ArrayLike, Sequence[Sequence[int]], None]
+#: a :class:`Mesh` or a ``(V (n, 3), F (m, k))`` tuple (metrics, analysis, chains).
+MeshPair = Union[Mesh, tuple[ArrayLike, ArrayLike]]
+
+
+def as_mesh(V: MeshLike, F: FacesLike = None) -> Mesh:
+    """Return a :class:`Mesh` from a Mesh (``F`` must be None), from ``(V, F)`` arrays (``V`` (n, 3)
+    float64 positions in mesh units, ``F`` (m, k) integer faces or a list of polygons), or from
+    new (n, 3) positions ``V`` on the faces of a Mesh ``F``."""
     if isinstance(V, Mesh):
         if F is not None:
             raise MeshError("pass either a Mesh or (V, F), not both")
@@ -222,7 +241,7 @@ def as_mesh(V, F=None) -> Mesh:
     return Mesh(V, F)
 
 
-def vertices_and_mask(V, F=None) -> tuple[np.ndarray, np.ndarray]:
+def vertices_and_mask(V: MeshLike, F: FacesLike = None) -> tuple[FloatArray, UInt8Array]:
     """``(V (n, 3) float64, mask (n,) uint8)``: the vertices that take part in a vertex statistic,
     the referenced ones of a mesh (a :class:`Mesh`, or ``(V, F)``), all of a point set (``F`` None)."""
     if isinstance(V, Mesh) or F is not None:

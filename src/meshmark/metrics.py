@@ -32,7 +32,9 @@ import numpy as np
 
 from . import _core
 from ._core import MeshError
-from .mesh import Mesh, _as_vertices, as_mesh
+from .mesh import as_mesh, FacesLike, Mesh, MeshLike, MeshPair, _as_vertices
+from ._typing import ArrayLike, FloatArray, IntArray
+from typing import Any
 
 
 def _pm1(w, name: str) -> np.ndarray:
@@ -53,28 +55,36 @@ def _pair(w, w2):
     return a, b
 
 
-def correlation(w, w2) -> float:
-    """C(w, w') of eq. 6.3.11 (Pearson correlation of the +-1 sequences); 0 if either is constant."""
+def correlation(w: ArrayLike, w2: ArrayLike) -> float:
+    """C(w, w') of eq. 6.3.11 (Pearson correlation of the +-1 sequences); 0 if either is constant.
+
+    ``w``, ``w2``: (k,) sequences of one length, 0/1 bits or +-1."""
     a, b = _pair(w, w2)
     a, b = a - a.mean(), b - b.mean()
     den = math.sqrt(float((a * a).sum() * (b * b).sum()))
     return float((a * b).sum() / den) if den > 0 else 0.0
 
 
-def normalized_correlation(w, w2) -> float:
-    """NC = mean(w_i w'_i) on the +-1 form (= 2 CDR - 1)."""
+def normalized_correlation(w: ArrayLike, w2: ArrayLike) -> float:
+    """NC = mean(w_i w'_i) on the +-1 form (= 2 CDR - 1).
+
+    ``w``, ``w2``: (k,) sequences of one length, 0/1 bits or +-1."""
     a, b = _pair(w, w2)
     return float((a * b).mean())
 
 
-def cdr(w, w2) -> float:
-    """Correct detection rate: the fraction of equal bits."""
+def cdr(w: ArrayLike, w2: ArrayLike) -> float:
+    """Correct detection rate: the fraction of equal bits.
+
+    ``w``, ``w2``: (k,) sequences of one length, 0/1 bits or +-1."""
     a, b = _pair(w, w2)
     return float((a == b).mean())
 
 
-def bit_error_rate(w, w2) -> float:
-    """1 - CDR."""
+def bit_error_rate(w: ArrayLike, w2: ArrayLike) -> float:
+    """1 - CDR.
+
+    ``w``, ``w2``: (k,) sequences of one length, 0/1 bits or +-1."""
     return 1.0 - cdr(w, w2)
 
 
@@ -106,7 +116,7 @@ def _pair_meshes(A, B):
     return one(A, "A"), one(B, "B")
 
 
-def vertex_rmse(V, V2) -> float:
+def vertex_rmse(V: ArrayLike, V2: ArrayLike) -> float:
     """sqrt(mean_i |v_i - v'_i|^2) over corresponding vertices, model units.
 
     V, V2: (n, 3) arrays or Meshes with the same vertex count (MeshError otherwise).
@@ -114,9 +124,12 @@ def vertex_rmse(V, V2) -> float:
     return float(_core.vertex_rmse(_as_vertices(V), _as_vertices(V2, "V2")))
 
 
-def bbox_diagonal(V, F=None) -> float:
+def bbox_diagonal(V: MeshLike, F: FacesLike = None) -> float:
     """Length of the bounding-box diagonal of the vertices used by the faces (all vertices if F is None
-    and V is an array)."""
+    and V is an array).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces. In
+    mesh units."""
     if F is None and not isinstance(V, Mesh):
         P = _as_vertices(V)
     else:
@@ -129,15 +142,16 @@ def bbox_diagonal(V, F=None) -> float:
     return float(np.linalg.norm(P.max(0) - P.min(0)))
 
 
-def min_dihedral_angles(V, F=None) -> np.ndarray:
+def min_dihedral_angles(V: MeshLike, F: FacesLike = None) -> np.ndarray:
     """(t,) x_i of eq. 3.2.3 in degrees: per triangle, the smallest angle between its normal and the
     normal of an edge-adjacent triangle (0 = coplanar); +inf for a triangle without a usable neighbour."""
     m, T = _tri_mesh(V, F)
     return _core.min_dihedral_angles_deg(m.V, T)
 
 
-def normal_degradation(V, V2, F=None, *, weighting: str = "mean", mu: float = 0.0, sigma: float = 3.5,
-                       degrees: bool = False, return_details: bool = False):
+def normal_degradation(V: MeshLike, V2: ArrayLike, F: FacesLike = None, *, weighting: str = "mean", mu: float = 0.0,
+                       sigma: float = 3.5,
+                       degrees: bool = False, return_details: bool = False) -> float | tuple[float, dict[str, Any]]:
     """dis(M, M') of eq. 3.2.2: ``sum_i w_i angle(n_i, n'_i) / sum_i w_i`` over the triangles.
 
     M = (V, F), M' = (V2, F): the same faces (a Mesh for V supplies F; V2 may be a Mesh or an array).
@@ -159,14 +173,14 @@ def normal_degradation(V, V2, F=None, *, weighting: str = "mean", mu: float = 0.
     return val
 
 
-def sample_surface(V, F=None, *, n: int, seed: int = 0):
+def sample_surface(V: MeshLike, F: FacesLike = None, *, n: int, seed: int = 0) -> tuple[FloatArray, IntArray]:
     """``n`` points uniformly distributed by area on the triangles: ``(P (n, 3), face (n,) int32)``,
     grouped by triangle. Deterministic for a given seed (see surface_distance.h for the draw order)."""
     m, T = _tri_mesh(V, F)
     return _core.sample_surface(m.V, T, int(n), int(seed))
 
 
-def point_mesh_distance(P, V, F=None):
+def point_mesh_distance(P: ArrayLike, V: MeshLike, F: FacesLike = None) -> tuple[FloatArray, IntArray]:
     """Exact distance from each point of ``P`` (k, 3) to the surface: ``(dist (k,), face (k,))``."""
     m, T = _tri_mesh(V, F)
     return _core.point_mesh_distance(_as_vertices(P, "P"), m.V, T)
@@ -181,11 +195,14 @@ def _n_default(n_samples, n_tri):
     return n
 
 
-def one_sided_distance(A, B, *, n_samples: int | None = None, include_vertices: bool = True, seed: int = 0) -> dict:
+def one_sided_distance(A: MeshPair, B: MeshPair, *, n_samples: int | None = None, include_vertices: bool = True,
+                       seed: int = 0) -> dict:
     """Distances from samples of surface A to surface B (Metro; MeshLab's Hausdorff filter with
     SampleVert + SampleFace): every referenced vertex of A (``include_vertices``) plus ``n_samples``
     area-uniform points (default 2 x triangles of A). Returns ``max``, ``mean``, ``rms``, ``min`` (model
-    units) and ``n_samples`` (the total)."""
+    units) and ``n_samples`` (the total).
+
+    ``A``, ``B``: each a Mesh or a ``(V (n, 3), F (m, k))`` tuple."""
     ma, mb = _pair_meshes(A, B)
     Ta, Tb = np.ascontiguousarray(ma.triangles, np.int32), np.ascontiguousarray(mb.triangles, np.int32)
     return dict(_core.one_sided_distance(ma.V, Ta, mb.V, Tb, _n_default(n_samples, len(Ta)),
@@ -198,7 +215,7 @@ def one_sided_distance(A, B, *, n_samples: int | None = None, include_vertices: 
 HAUSDORFF_MAX_QUERIES = 3_000_000
 
 
-def hausdorff_distance(A, B, *, rel_tol: float = 1e-2, abs_tol: float | None = None,
+def hausdorff_distance(A: MeshPair, B: MeshPair, *, rel_tol: float = 1e-2, abs_tol: float | None = None,
                        max_queries: int | None = HAUSDORFF_MAX_QUERIES) -> dict:
     """One-sided Hausdorff distance h(A -> B) with a guaranteed bound (branch and bound, native).
 
@@ -227,7 +244,8 @@ def hausdorff_distance(A, B, *, rel_tol: float = 1e-2, abs_tol: float | None = N
     return dict(_core.hausdorff_distance(ma.V, Ta, mb.V, Tb, float(rel_tol), float(abs_tol), int(max_queries)))
 
 
-def surface_distance(A, B, *, n_samples: int | None = None, include_vertices: bool = True, seed: int = 0,
+def surface_distance(A: MeshPair, B: MeshPair, *, n_samples: int | None = None, include_vertices: bool = True,
+                     seed: int = 0,
                      rel_tol: float = 1e-2, max_queries: int | None = HAUSDORFF_MAX_QUERIES) -> dict:
     """Symmetric distance between a reference A and an attacked B (Meshes or (V, F)).
 
@@ -256,7 +274,7 @@ def surface_distance(A, B, *, n_samples: int | None = None, include_vertices: bo
     return out
 
 
-def compare(A, B, *, n_samples: int | None = None, seed: int = 0) -> dict:
+def compare(A: MeshPair, B: MeshPair, *, n_samples: int | None = None, seed: int = 0) -> dict:
     """Every distortion measure between a reference A and an attacked B (Meshes or (V, F)).
 
     Keys: ``rmse`` (vertex RMSE, None unless the vertex counts match), ``rmse_rel``, ``hausdorff``,

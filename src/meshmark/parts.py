@@ -18,7 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._core import MeshError
-from .mesh import Mesh, as_mesh
+from .mesh import as_mesh, Mesh, MeshPair
+from ._typing import ArrayLike
+from typing import Sequence
 
 
 @dataclass(frozen=True)
@@ -36,9 +38,10 @@ class Joined:
 
     @property
     def n_parts(self) -> int:
+        """The number of parts joined (the (k + 1,) vertex offsets minus one)."""
         return int(self.offsets.size - 1)
 
-    def split(self, V) -> list[np.ndarray]:
+    def split(self, V: ArrayLike) -> list[np.ndarray]:
         """Cut an ``(n, 3)`` array over the joined vertices (marked, posed) into the parts' arrays."""
         V = np.asarray(V)
         if V.ndim < 1 or V.shape[0] != int(self.offsets[-1]):
@@ -51,7 +54,7 @@ class Joined:
         return np.repeat(np.arange(self.n_parts, dtype=np.int64), np.diff(self.offsets))
 
 
-def join(parts) -> Joined:
+def join(parts: Sequence[MeshPair]) -> Joined:
     """Join meshes (each a :class:`Mesh` or a ``(V, F)`` pair) into one, in the order given.
 
     Vertices are concatenated without merging (seams between parts stay as they are), faces keep

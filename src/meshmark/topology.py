@@ -11,10 +11,12 @@ import numpy as np
 
 from . import _core
 from ._core import MeshError
-from .mesh import Mesh, as_mesh
+from .mesh import as_mesh, FacesLike, Mesh, MeshLike
+from ._typing import ArrayLike
+from typing import Any
 
 
-def unique_edges(V, F=None) -> tuple[np.ndarray, np.ndarray]:
+def unique_edges(V: MeshLike, F: FacesLike = None) -> tuple[np.ndarray, np.ndarray]:
     """Unique undirected edges.
 
     Returns ``E`` (e, 2) int32 with ``E[:, 0] < E[:, 1]``, sorted lexicographically, and
@@ -25,33 +27,33 @@ def unique_edges(V, F=None) -> tuple[np.ndarray, np.ndarray]:
     return _core.unique_edges(m.n_vertices, m.face_indices, m.face_offsets)
 
 
-def vertex_adjacency(V, F=None) -> tuple[np.ndarray, np.ndarray]:
+def vertex_adjacency(V: MeshLike, F: FacesLike = None) -> tuple[np.ndarray, np.ndarray]:
     """CSR adjacency: ``(ptr (n+1,) int64, nbr (2e,) int32)``; neighbours of i are ``nbr[ptr[i]:ptr[i+1]]``, sorted."""
     m = as_mesh(V, F)
     E, _ = unique_edges(m)
     return _core.vertex_adjacency(m.n_vertices, E)
 
 
-def valence(V, F=None) -> np.ndarray:
+def valence(V: MeshLike, F: FacesLike = None) -> np.ndarray:
     """(n,) int32 number of distinct neighbours of each vertex (0 if unreferenced)."""
     m = as_mesh(V, F)
     return _core.valence(m.n_vertices, unique_edges(m)[0])
 
 
-def boundary_edges(V, F=None) -> np.ndarray:
+def boundary_edges(V: MeshLike, F: FacesLike = None) -> np.ndarray:
     """(b, 2) int32 edges that lie on exactly one face."""
     E, count = unique_edges(V, F)
     return E[count == 1]
 
 
-def boundary_vertices(V, F=None) -> np.ndarray:
+def boundary_vertices(V: MeshLike, F: FacesLike = None) -> np.ndarray:
     """Sorted (k,) int32 indices of vertices on a boundary edge."""
     m = as_mesh(V, F)
     E, count = unique_edges(m)
     return _core.boundary_vertices(m.n_vertices, E, count)
 
 
-def connected_components(V, F=None) -> tuple[np.ndarray, int]:
+def connected_components(V: MeshLike, F: FacesLike = None) -> tuple[np.ndarray, int]:
     """Components of the edge graph: ``(labels (n,) int32, count)``.
 
     Labels are numbered in order of each component's lowest vertex index; unreferenced vertices
@@ -61,8 +63,10 @@ def connected_components(V, F=None) -> tuple[np.ndarray, int]:
     return _core.connected_components(m.n_vertices, unique_edges(m)[0])
 
 
-def manifold_report(V, F=None) -> dict:
-    """Counts of non-manifold edges (> 2 faces) and vertices (faces not forming one fan)."""
+def manifold_report(V: MeshLike, F: FacesLike = None) -> dict:
+    """Counts of non-manifold edges (> 2 faces) and vertices (faces not forming one fan).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     m = as_mesh(V, F)
     return _core.manifold_report(m.n_vertices, m.face_indices, m.face_offsets)
 
@@ -86,7 +90,7 @@ class Welded:
         """How many input vertices were merged into an earlier copy (n - k)."""
         return int(self.map.shape[0] - self.first.shape[0])
 
-    def scatter(self, V) -> np.ndarray:
+    def scatter(self, V: ArrayLike) -> np.ndarray:
         """(n, 3) positions of the input vertices from (k, 3) positions of the welded ones: every
         copy of a welded vertex gets exactly the same coordinates."""
         V = np.asarray(V)
@@ -95,7 +99,7 @@ class Welded:
         return V if self.n_merged == 0 else V[self.map]
 
 
-def weld_vertices(V, F=None) -> Welded:
+def weld_vertices(V: MeshLike, F: FacesLike = None) -> Welded:
     """Merge vertices whose coordinates are exactly equal (as float64; ``-0.0 == 0.0``).
 
     Exporters split a vertex into coincident copies at UV seams and sharp edges, and non-indexed
@@ -106,6 +110,8 @@ def weld_vertices(V, F=None) -> Welded:
     One native hash pass, O(n + corners).
 
     Returns a :class:`Welded` (``mesh``, ``map``, ``first``, ``face``, ``scatter``).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     m = as_mesh(V, F)
     first, vmap, idx, off, face = _core.weld_vertices(m.V, m.face_indices, m.face_offsets)

@@ -7,12 +7,15 @@ from .. import _core
 from .._core import MeshError
 from ._common import mesh_arrays, positive, seed_value
 from .degradation import _levels
+from .._typing import ArrayLike, FloatArray, IntArray
+from ..mesh import MeshPair
+from typing import Sequence
 
 __all__ = ["DIRECTIONS", "SWEEP_LEVELS", "TABLE_5_1", "gaussian_curvature", "curvature_degradation", "fit_linear",
            "curvature_model", "hexagonal_pyramid", "pyramid_experiment"]
 
 
-def gaussian_curvature(mesh) -> dict:
+def gaussian_curvature(mesh: MeshPair) -> dict:
     """Discrete Gaussian curvature (eq. 5.1.1, the angle deficit), radians: ``{"kappa" (n,),
     "interior" (n,) bool, "boundary" (n,) bool}``. Interior vertices: 2 pi - sum of incident angles;
     boundary vertices (on an edge with one triangle): pi - sum (the boundary angle deficit, 0 on a flat
@@ -41,8 +44,10 @@ def _mask(x, n: int, name: str) -> np.ndarray:
     return m
 
 
-def curvature_degradation(mesh, t=SWEEP_LEVELS, direction: str = "normal", *, seed: int = 0, repeats: int = 1,
-                          scale: float | None = None, moved=None, measured=None) -> np.ndarray:
+def curvature_degradation(mesh: MeshPair, t: ArrayLike = SWEEP_LEVELS, direction: str = "normal", *,
+                          seed: int = 0, repeats: int = 1,
+                          scale: float | None = None, moved: ArrayLike | None = None,
+                          measured: ArrayLike | None = None) -> np.ndarray:
     """kappa_dif(t) of §5.2: the mean |kappa' - kappa| (radians) over the measured vertices after every
     moved vertex is displaced by s * scale along its ``direction`` (``normal``: the mean of the unit
     normals of its triangles, as §5.2; ``tangential``: a random unit direction of its tangent plane;
@@ -75,10 +80,12 @@ def curvature_degradation(mesh, t=SWEEP_LEVELS, direction: str = "normal", *, se
                                        seed_value(seed))
 
 
-def fit_linear(t, kappa_dif, *, t_min: int = 12) -> dict:
+def fit_linear(t: ArrayLike, kappa_dif: ArrayLike, *, t_min: int = 12) -> dict:
     """The linear model of eq. 5.2.4 as the thesis reports it (Table 5.1: slope -1): least squares
     log2 kappa_dif = a t + b over the levels t >= ``t_min`` (numpy.polyfit, degree 1). Returns
-    ``{"a", "b", "r2", "n"}``."""
+    ``{"a", "b", "r2", "n"}``.
+
+    ``t``, ``kappa_dif``: (k,) arrays of one length (levels, curvature changes)."""
     t = np.asarray(t, dtype=np.float64)
     y = np.log2(np.asarray(kappa_dif, dtype=np.float64))
     ok = (t >= t_min) & np.isfinite(y)
@@ -90,11 +97,15 @@ def fit_linear(t, kappa_dif, *, t_min: int = 12) -> dict:
     return {"a": float(a), "b": float(b), "r2": 1 - float((res ** 2).sum()) / ss if ss > 0 else 1.0, "n": int(ok.sum())}
 
 
-def curvature_model(mesh, t=SWEEP_LEVELS, *, seed: int = 0, repeats: int = 1, t_min: int = 12,
-                    directions=DIRECTIONS) -> dict:
+def curvature_model(mesh: MeshPair, t: ArrayLike = SWEEP_LEVELS, *, seed: int = 0, repeats: int = 1,
+                    t_min: int = 12,
+                    directions: Sequence[str] = DIRECTIONS) -> dict:
     """The §5.2 experiment on one mesh: kappa_dif(t) per direction and the eq. 5.2.4 fit over
     t >= t_min: ``{direction: {"a", "b", "r2", "n", "kappa_dif": [...]}, "t": [...], "scale": L,
-    "n_interior": int}``."""
+    "n_interior": int}``.
+
+    ``mesh``: a Mesh or ``(V (n, 3), F (m, 3))``; ``t`` the (k,) levels
+    (displacement s ~ U[-2^(1-t), 2^(1-t)] x L, as in :func:`curvature_degradation`)."""
     m, V, T = mesh_arrays(mesh)
     tt = _levels(t, 0, 1074)
     g = gaussian_curvature((V, T))
@@ -107,24 +118,26 @@ def curvature_model(mesh, t=SWEEP_LEVELS, *, seed: int = 0, repeats: int = 1, t_
     return out
 
 
-def hexagonal_pyramid(height: float = 1.0, radius: float = 1.0):
+def hexagonal_pyramid(height: float = 1.0, radius: float = 1.0) -> tuple[FloatArray, IntArray]:
     """The regular right hexagonal pyramid of Fig. 5.5: apex (0, 0, height) = vertex 0, base hexagon of
     circumradius ``radius`` in z = 0 (vertices 1..6), the 6 side triangles (no base, so only the apex
-    is interior). Returns (V, F)."""
+    is interior). ``height`` and ``radius`` in mesh units. Returns (V (7, 3) float64, F (6, 3) int)."""
     ang = np.arange(6) * np.pi / 3
     V = np.r_[[[0.0, 0.0, float(height)]], np.c_[radius * np.cos(ang), radius * np.sin(ang), np.zeros(6)]]
     F = np.array([[0, 1 + k, 1 + (k + 1) % 6] for k in range(6)])
     return V, F
 
 
-def pyramid_experiment(t=tuple(range(0, 41)), *, repeats: int = 2000, seed: int = 0, t_min: int = 2,
+def pyramid_experiment(t: ArrayLike = tuple(range(0, 41)), *, repeats: int = 2000, seed: int = 0, t_min: int = 2,
                        t_max: int = 20) -> dict:
     """Fig. 5.5: noise of mean strength 2^-t (model units: height = radius = 1) added to the apex only,
     in the normal (the axis) and in a tangential direction; the mean |kappa' - kappa| at the apex over
     ``repeats`` draws, and the slopes of log2 kappa_dif over t_min <= t <= t_max: the tangential
     change is O(eps^2) and reaches the precision of the angle sums (~2^-50) near t = 24, where the
     curve levels off as the thesis notes; the window stays below that. Returns ``{"t", "normal", "tangential",
-    "fit": {direction: {"a", "b", "r2", "n"}}, "slope_ratio": a_tangential / a_normal}``."""
+    "fit": {direction: {"a", "b", "r2", "n"}}, "slope_ratio": a_tangential / a_normal}``.
+
+    ``t``: (k,) integer levels; ``normal`` and ``tangential`` are (k,) lists of radians."""
     V, F = hexagonal_pyramid()
     out = {"t": [int(x) for x in t], "fit": {}}
     for d in ("normal", "tangential"):

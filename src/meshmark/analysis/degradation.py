@@ -14,6 +14,9 @@ import numpy as np
 from .. import _core
 from .._core import MeshError
 from ._common import mesh_arrays, positive, seed_value
+from .._typing import ArrayLike, FloatArray
+from ..mesh import MeshPair
+from typing import Sequence
 
 __all__ = ["WEIGHTINGS", "FIT_LEVELS", "TABLE_3_1", "TABLE_3_2", "degradation_curve", "fit_logistic", "logistic",
            "logistic_level", "degradation_model"]
@@ -46,7 +49,7 @@ def _levels(t, lo: int, hi: int, name: str = "t") -> np.ndarray:
     return np.ascontiguousarray(a, dtype=np.int32)
 
 
-def degradation_curve(mesh, t=range(65), *, seed: int = 0, repeats: int = 1) -> dict:
+def degradation_curve(mesh: MeshPair, t: ArrayLike = range(65), *, seed: int = 0, repeats: int = 1) -> dict:
     """dis(M, M^t) of eq. 3.2.2, radians, for each level ``t`` (0..64 bits of the double kept, §3.2.1):
     ``{"t": (k,), "mean"/"area"/"dihedral": (k,), "variance": {weighting: (k,)} (over ``repeats``),
     "excluded": (k,) fraction of triangles without a finite normal in M^t}``. Deterministic for a seed;
@@ -63,16 +66,20 @@ def degradation_curve(mesh, t=range(65), *, seed: int = 0, repeats: int = 1) -> 
     return out
 
 
-def logistic(t, a: float, b: float, C: float):
-    """D(t) = C / (1 + e^(-a - b t)) (eq. 3.2.1)."""
+def logistic(t: ArrayLike, a: float, b: float, C: float) -> FloatArray:
+    """D(t) = C / (1 + e^(-a - b t)) (eq. 3.2.1).
+
+    ``t`` (k,) levels (any shape) -> D (k,) radians, same shape."""
     t = np.asarray(t, dtype=np.float64)
     return C / (1 + np.exp(-a - b * t))
 
 
-def fit_logistic(t, d, *, loss: str = "soft_l1", f_scale: float = 0.05) -> dict:
+def fit_logistic(t: ArrayLike, d: ArrayLike, *, loss: str = "soft_l1", f_scale: float = 0.05) -> dict:
     """Fit eq. 3.2.1 to samples ``d`` (radians) at levels ``t`` by scipy.optimize.least_squares with a
     robust loss (``soft_l1``, residual scale ``f_scale`` radians). Start: C = pi/2, b = -1, a = the
-    level where the samples cross C/2. Returns ``{"a", "b", "C", "cost", "success"}``."""
+    level where the samples cross C/2. Returns ``{"a", "b", "C", "cost", "success"}``.
+
+    ``t`` and ``d``: (k,) arrays of one length."""
     from scipy.optimize import least_squares
     t = np.asarray(t, dtype=np.float64)
     d = np.asarray(d, dtype=np.float64)
@@ -100,9 +107,11 @@ def logistic_level(a: float, b: float, C: float, tolerance: float) -> int:
     return int(math.ceil(-(math.log((C - D) / D) + a) / b))
 
 
-def degradation_model(mesh, tolerances=(1.0, 5.0, 10.0), *, seed: int = 0, t=FIT_LEVELS, repeats: int = 1) -> dict:
+def degradation_model(mesh: MeshPair, tolerances: Sequence[float] = (1.0, 5.0, 10.0), *, seed: int = 0,
+                      t: ArrayLike = FIT_LEVELS, repeats: int = 1) -> dict:
     """The ch. 3 analysis of one mesh: the samples at ``t`` (default 12, 16, 20, 24, 28), the logistic
-    fit per weighting and the level per tolerance. Returns ``{weighting: {"a", "b", "C", "t": {tol:
+    fit per weighting and the level per tolerance (degrees, as :func:`logistic_level`). Returns
+    ``{weighting: {"a", "b", "C", "t": {tol:
     level}, "samples": [...]}, "levels_fitted": [...], "seed": seed}``."""
     tol = [positive(x, "tolerance") for x in tolerances]
     curve = degradation_curve(mesh, t, seed=seed, repeats=repeats)

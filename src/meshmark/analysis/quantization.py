@@ -23,8 +23,10 @@ import numpy as np
 
 from .. import _core
 from .._core import MeshError
-from ..mesh import Mesh
+from ..mesh import Mesh, MeshPair
 from ._common import mesh_arrays, positive, seed_value
+from .._typing import ArrayLike, FloatArray
+from typing import Sequence
 
 __all__ = [
     "ETA", "ALPHA", "MU", "SIGMA", "BOUNDS", "expected_normal_angle", "table_4_1", "monte_carlo_angle",
@@ -38,16 +40,18 @@ BOUNDS = ("min", "appr", "max", "exact")
 TABLE_4_1 = {0.1: 0.0001, 0.2: 0.0006, 0.3: 0.0021, 0.4: 0.0049, 0.5: 0.0092}  # thesis E(theta) - l/2h
 
 
-def expected_normal_angle(r):
+def expected_normal_angle(r: ArrayLike) -> float | FloatArray:
     """E(theta) of eqs. 4.1.7/4.1.8, radians, for r = l/h (scalar or array, r >= 0): the expected angle
     between a triangle's normal and its normal after noise uniform in a cube of edge 2l (one face
-    parallel to the triangle) is added to the vertex of height h. E'(0) = 1/2; pi/2 as r -> inf."""
+    parallel to the triangle) is added to the vertex of height h. E'(0) = 1/2; pi/2 as r -> inf.
+
+    Shapes: a scalar gives a float, an array of shape (k,) (any shape) gives the same shape."""
     a = np.asarray(r, dtype=np.float64)
     out = _core.expected_normal_angle(np.ascontiguousarray(a.ravel()))
     return float(out[0]) if a.ndim == 0 else out.reshape(a.shape)
 
 
-def table_4_1(ratios=(0.1, 0.2, 0.3, 0.4, 0.5)) -> dict:
+def table_4_1(ratios: Sequence[float] = (0.1, 0.2, 0.3, 0.4, 0.5)) -> dict:
     """Table 4.1: {l/h: E(theta) - l/2h}."""
     return {float(r): float(expected_normal_angle(r) - r / 2) for r in ratios}
 
@@ -66,7 +70,8 @@ def monte_carlo_angle(r: float, n: int = 10 ** 6, seed: int = 0) -> tuple[float,
 def estimate_eta(n: int = 10 ** 6, l: float = 2.0 ** -10, seed: int = 0) -> tuple[float, float]:
     """eta of eq. 4.1.16 as the thesis estimated it: noise U[-l, l]^3 on the three vertices of an
     equilateral triangle of side 1 (in the xy-plane), the mean normal change divided by
-    E(theta_1) + E(theta_2) + E(theta_3) = 3 E(l / h), h = sqrt(3)/2. Returns ``(eta, standard error)``."""
+    E(theta_1) + E(theta_2) + E(theta_3) = 3 E(l / h), h = sqrt(3)/2. Returns ``(eta, standard error)``.
+    ``l`` is in the units of that triangle (side 1: a fraction of its side); eta is unitless."""
     l = positive(l, "l")
     P = np.array([[0.0, 0, 0], [1, 0, 0], [0.5, math.sqrt(3) / 2, 0]])
     mean, se, _ = _core.normal_noise_monte_carlo(P, np.array([1, 1, 1], np.int32), l, int(n), seed_value(seed))
@@ -74,7 +79,7 @@ def estimate_eta(n: int = 10 ** 6, l: float = 2.0 ** -10, seed: int = 0) -> tupl
     return mean / den, se / den
 
 
-def triangle_heights(mesh) -> tuple[np.ndarray, np.ndarray]:
+def triangle_heights(mesh: MeshPair) -> tuple[np.ndarray, np.ndarray]:
     """``(h (t, 3) sorted heights h1 <= h2 <= h3 in model units, usable (t,) bool)``; zero-area
     triangles are not usable (their rows are 0)."""
     _, V, T = mesh_arrays(mesh)
@@ -88,7 +93,7 @@ def _bound(bound: str) -> tuple[str, str]:
     return ("appr", "exact") if bound == "exact" else (bound, "auto")
 
 
-def mesh_expectation(mesh, l, bound: str = "appr", *, exact: bool = False, eta: float = ETA):
+def mesh_expectation(mesh: MeshPair, l: float, bound: str = "appr", *, exact: bool = False, eta: float = ETA) -> float:
     """E_mesh(theta) of eq. 4.2.18, radians: the mean over the usable triangles of E_min (eq. 4.1.10),
     E_max = 2 E_min (4.1.15) or E_appr = eta sum_k E(theta_k) (4.1.16) for noise of half-width ``l``
     (model units, scalar or array). ``exact``: E(theta) of eq. 4.1.7, else its tangent l/2h (4.1.9)."""
@@ -102,12 +107,14 @@ def mesh_expectation(mesh, l, bound: str = "appr", *, exact: bool = False, eta: 
     return float(out[0]) if a.ndim == 0 else out.reshape(a.shape)
 
 
-def quantization_details(mesh, tolerance: float = 1.0, bound: str = "appr", *, eta: float = ETA,
+def quantization_details(mesh: MeshPair, tolerance: float = 1.0, bound: str = "appr", *, eta: float = ETA,
                          formula: str | None = None, switch_tol: float = 0.1) -> dict:
     """:func:`quantization_level` with its evidence: ``level`` (0..32), ``level_unclamped``,
     ``level_linear`` (closed form), ``used_exact``, ``e_linear`` / ``e_exact`` (E_mesh at the closed-form
     level, radians), ``e_level``, ``cube`` (L), ``n_triangles``; ``formula`` overrides the choice
-    (``auto``, ``linear``, ``exact``)."""
+    (``auto``, ``linear``, ``exact``).
+
+    ``mesh``: a Mesh or ``(V (n, 3), F (m, 3))``; ``tolerance`` in degrees."""
     b, f = _bound(bound)
     if formula is not None:
         f = formula
@@ -118,7 +125,7 @@ def quantization_details(mesh, tolerance: float = 1.0, bound: str = "appr", *, e
     return d
 
 
-def quantization_level(mesh, tolerance: float = 1.0, bound: str = "appr", *, eta: float = ETA) -> int:
+def quantization_level(mesh: MeshPair, tolerance: float = 1.0, bound: str = "appr", *, eta: float = ETA) -> int:
     """The optimal dithered-quantization level i (eqs. 4.3.19-4.3.21): the fewest most significant bits
     of the 32-bit fixed-point coordinate (bounding cube, as :func:`meshmark.attacks.dither`) to keep so
     that the expected mean normal change E_mesh stays within ``tolerance`` degrees.
@@ -141,7 +148,8 @@ def quantization_level(mesh, tolerance: float = 1.0, bound: str = "appr", *, eta
     return int(quantization_details(mesh, tolerance, bound, eta=eta)["level"])
 
 
-def adaptive_details(mesh, tolerance: float = 1.0, *, alpha: float = ALPHA, mu: float = MU, sigma: float = SIGMA,
+def adaptive_details(mesh: MeshPair, tolerance: float = 1.0, *, alpha: float = ALPHA, mu: float = MU,
+                     sigma: float = SIGMA,
                      eta: float = ETA) -> dict:
     """:func:`adaptive_levels` with ``levels`` (n,), ``triangle_levels`` (t,), ``triangle_tolerance``
     (t,) radians and ``kappa`` (n,) (the curvature used, eq. 4.3.23)."""
@@ -154,7 +162,8 @@ def adaptive_details(mesh, tolerance: float = 1.0, *, alpha: float = ALPHA, mu: 
     return {"levels": lv.astype(np.int64), "triangle_levels": lt, "triangle_tolerance": et, "kappa": kappa}
 
 
-def adaptive_levels(mesh, tolerance: float = 1.0, *, alpha: float = ALPHA, mu: float = MU, sigma: float = SIGMA,
+def adaptive_levels(mesh: MeshPair, tolerance: float = 1.0, *, alpha: float = ALPHA, mu: float = MU,
+                    sigma: float = SIGMA,
                     eta: float = ETA) -> np.ndarray:
     """Curvature-adaptive per-vertex levels (eqs. 4.3.23-4.3.25): each triangle j gets the tolerance
     eps_j = min over its vertices of alpha - phi(kappa_n; alpha, mu, sigma) + eps0 (phi: Gaussian of
@@ -189,7 +198,8 @@ def _levels_vector(levels, n: int) -> np.ndarray:
     return a.astype(np.int32)
 
 
-def quantize(mesh, tolerance: float | None = None, *, levels=None, adaptive: bool = False, bound: str = "appr",
+def quantize(mesh: MeshPair, tolerance: float | None = None, *, levels: ArrayLike | int | None = None,
+             adaptive: bool = False, bound: str = "appr",
              seed: int = 0) -> Mesh:
     """The dithered mesh (32-bit fixed point in the bounding cube, low bits random; attacks'
     ``dithered_quantize``) at ``levels`` (scalar or (n,)) or, if None, at the level for ``tolerance``
@@ -206,7 +216,7 @@ def quantize(mesh, tolerance: float | None = None, *, levels=None, adaptive: boo
     return Mesh.from_polygons(V2, m.face_indices, m.face_offsets, validate=False)
 
 
-def psi(mesh, levels, *, seed: int = 0, repeats: int = 1) -> float:
+def psi(mesh: MeshPair, levels: ArrayLike | int, *, seed: int = 0, repeats: int = 1) -> float:
     """psi^i of eq. 4.3.22 in degrees: the mean angle between the triangle normals of ``mesh`` and of
     the mesh dithered at ``levels`` (scalar or (n,)), averaged over ``repeats`` dithers (seeds seed,
     seed + 1, ...). Zero-area triangles are excluded (metrics.normal_degradation)."""
@@ -220,13 +230,16 @@ def psi(mesh, levels, *, seed: int = 0, repeats: int = 1) -> float:
     return float(np.mean(vals))
 
 
-def quantization_table(mesh, tolerances=(0.1, 1.0, 10.0), bounds=("min", "appr", "max", "exact"), *,
+def quantization_table(mesh: MeshPair, tolerances: Sequence[float] = (0.1, 1.0, 10.0),
+                       bounds: Sequence[str] = ("min", "appr", "max", "exact"), *,
                        adaptive: bool = False, seed: int = 0) -> dict:
     """Tables 4.2 and 4.3 for one mesh: ``{"n_triangles", "cube", "levels": {bound: {tol: i}},
     "psi": {bound: {tol: psi^i in degrees}}, "details": {bound: {tol: quantization_details}}}``, and
     with ``adaptive`` also ``"adaptive": {tol: {"mean_level", "min", "max", "total_bits",
     "global_total_bits", "psi"}}`` (total bits kept = 3 sum_n i_n; the global level for comparison is
-    the ``appr`` one)."""
+    the ``appr`` one).
+
+    ``mesh``: a Mesh or ``(V (n, 3), F (m, 3))``; ``tolerances`` in degrees."""
     m, V, T = mesh_arrays(mesh)
     out = {"levels": {}, "psi": {}, "details": {}}
     for b in bounds:

@@ -9,7 +9,8 @@ import numpy as np
 
 from .. import _core
 from .._core import MeshError
-from ..mesh import Mesh, _as_vertices, as_mesh
+from ..mesh import as_mesh, FacesLike, Mesh, MeshLike, _as_vertices
+from .._typing import ArrayLike, FloatArray, IntArray
 
 __all__ = [
     "rotate", "translate", "scale", "similarity", "random_rotation", "reorder", "noise", "smooth",
@@ -62,10 +63,14 @@ def _referenced(m: Mesh) -> np.ndarray:
 
 # --- similarity transforms ("distortionless", thesis 1.5.2 / 6.3.2) ----------------------------------
 
-def rotate(V, F=None, *, axis=(0.0, 0.0, 1.0), angle: float = 30.0, center=None) -> Mesh:
+def rotate(V: MeshLike, F: FacesLike = None, *, axis: ArrayLike = (0.0, 0.0, 1.0), angle: float = 30.0,
+           center: ArrayLike | None = None) -> Mesh:
     """Rotate by ``angle`` degrees about ``axis`` (right-hand rule) through ``center`` (default the origin).
 
     ``v' = R (v - c) + c``. Returns a Mesh with the same faces.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
+    ``axis``: (3,) direction; ``center``: (3,) point in mesh units.
     """
     m = as_mesh(V, F)
     R = _core.axis_angle_rotation(_vec3(axis, "axis"), _finite(angle, "angle"))
@@ -73,14 +78,18 @@ def rotate(V, F=None, *, axis=(0.0, 0.0, 1.0), angle: float = 30.0, center=None)
     return _same_faces(m, _core.similarity_transform(m.V, R, 1.0, c - R @ c))
 
 
-def translate(V, F=None, *, offset) -> Mesh:
-    """``v' = v + offset`` (offset: 3 numbers, model units)."""
+def translate(V: MeshLike, F: FacesLike = None, *, offset: ArrayLike) -> Mesh:
+    """``v' = v + offset`` (offset: 3 numbers, model units).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     m = as_mesh(V, F)
     return _same_faces(m, _core.similarity_transform(m.V, np.eye(3), 1.0, _vec3(offset, "offset")))
 
 
-def scale(V, F=None, *, factor: float, center=None) -> Mesh:
-    """Uniform scaling ``v' = factor (v - c) + c`` (c default the origin). MeshError unless factor > 0."""
+def scale(V: MeshLike, F: FacesLike = None, *, factor: float, center: ArrayLike | None = None) -> Mesh:
+    """Uniform scaling ``v' = factor (v - c) + c`` (c default the origin). MeshError unless factor > 0.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     m = as_mesh(V, F)
     s = _finite(factor, "scale factor")
     if s <= 0:
@@ -95,8 +104,9 @@ def random_rotation(seed: int = 0) -> np.ndarray:
     return R
 
 
-def similarity(V, F=None, *, seed: int = 0, scale_range=(0.5, 2.0), translation: float = 1.0,
-               return_transform: bool = False):
+def similarity(V: MeshLike, F: FacesLike = None, *, seed: int = 0, scale_range: tuple[float, float] = (0.5, 2.0),
+               translation: float = 1.0,
+               return_transform: bool = False) -> Mesh | tuple[Mesh, FloatArray, float, FloatArray]:
     """Random similarity ``v' = s R v + t``.
 
     R uniform on SO(3); ``s = exp(U[log lo, log hi])`` with ``scale_range = (lo, hi)``;
@@ -115,8 +125,8 @@ def similarity(V, F=None, *, seed: int = 0, scale_range=(0.5, 2.0), translation:
     return (out, R, s, t) if return_transform else out
 
 
-def reorder(V, F=None, *, seed: int = 0, vertices: bool = True, faces: bool = True,
-            return_permutations: bool = False):
+def reorder(V: MeshLike, F: FacesLike = None, *, seed: int = 0, vertices: bool = True, faces: bool = True,
+            return_permutations: bool = False) -> Mesh | tuple[Mesh, IntArray, IntArray]:
     """Random re-ordering of the vertices and/or faces; faces are re-indexed consistently.
 
     New vertex ``i`` is old vertex ``vertex_perm[i]``; new face ``j`` is old face ``face_perm[j]`` with
@@ -132,7 +142,7 @@ def reorder(V, F=None, *, seed: int = 0, vertices: bool = True, faces: bool = Tr
 
 # --- noise (eq. 6.3.12) ------------------------------------------------------------------------------
 
-def mean_centroid_distance(V, F=None) -> float:
+def mean_centroid_distance(V: MeshLike, F: FacesLike = None) -> float:
     """d-bar of eq. 6.3.12: mean distance from the (referenced, if F is given) vertices to their centroid."""
     if F is None and not isinstance(V, Mesh):
         return float(_core.mean_centroid_distance(_as_vertices(V)))
@@ -140,13 +150,13 @@ def mean_centroid_distance(V, F=None) -> float:
     return float(_core.mean_centroid_distance(np.ascontiguousarray(m.V[_referenced(m)])))
 
 
-def vertex_normals(V, F=None) -> np.ndarray:
+def vertex_normals(V: MeshLike, F: FacesLike = None) -> np.ndarray:
     """(n, 3) unit vertex normals: normalized sum of the incident triangles' (b - a) x (c - a)."""
     m = as_mesh(V, F)
     return _core.vertex_normals(m.V, _tri(m))
 
 
-def noise(V, F=None, *, strength: float, seed: int = 0, kind: str = "uniform") -> Mesh:
+def noise(V: MeshLike, F: FacesLike = None, *, strength: float, seed: int = 0, kind: str = "uniform") -> Mesh:
     """Additive noise of amplitude ``strength * d-bar`` (d-bar: mean vertex-to-centroid distance).
 
     kind:
@@ -157,6 +167,8 @@ def noise(V, F=None, *, strength: float, seed: int = 0, kind: str = "uniform") -
       * ``"tangent"``: ``v' = v + A d-bar (u - (u.n) n)``, ``u ~ U[-1, 1]^3``: tangent plane only.
 
     Unreferenced vertices do not move. MeshError for a negative strength or an unknown kind.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     m = as_mesh(V, F)
     A = _finite(strength, "noise strength")
@@ -169,15 +181,15 @@ def noise(V, F=None, *, strength: float, seed: int = 0, kind: str = "uniform") -
 
 # --- smoothing ---------------------------------------------------------------------------------------
 
-def smooth(V, F=None, *, lam: float = 0.02, iterations: int = 10, weights: str = "uniform",
+def smooth(V: MeshLike, F: FacesLike = None, *, lam: float = 0.02, iterations: int = 10, weights: str = "uniform",
            fix_boundary: bool = False) -> Mesh:
     """Laplacian smoothing: ``iterations`` simultaneous steps of ``v_i += lam (avg_j v_j - v_i)``.
 
     ``weights="uniform"``: the plain average of the edge-graph neighbours (polygons as stored; the
     thesis' attack, lambda = 0.02 with 10/30/50 iterations). ``weights="cotangent"``: the
     cotangent-weighted average (weights clamped at 0, recomputed each step, on the triangulation).
-    ``lam = 0`` (or 0 iterations) is the identity; isolated vertices never move; with ``fix_boundary``
-    the boundary vertices stay put. MeshError for negative iterations or a non-finite lambda.
+    ``lam`` is unitless (the fraction of the way to the average per step); ``lam = 0`` (or 0 iterations)
+    is the identity; isolated vertices never move; with ``fix_boundary`` the boundary vertices stay put. MeshError for negative iterations or a non-finite lambda.
     """
     m = as_mesh(V, F)
     lam = _finite(lam, "lambda")
@@ -194,10 +206,12 @@ def smooth(V, F=None, *, lam: float = 0.02, iterations: int = 10, weights: str =
 
 # --- quantization ------------------------------------------------------------------------------------
 
-def quantize(V, F=None, *, bits: int) -> Mesh:
+def quantize(V: MeshLike, F: FacesLike = None, *, bits: int) -> Mesh:
     """Snap every coordinate to the nearest of ``2^bits + 1`` levels ``lo + k (hi - lo) / 2^bits`` of its
     axis (lo, hi: the bounding box of all vertices): error at most half a step. The thesis and the
     Wang et al. benchmark use b = 7..12. MeshError unless 1 <= bits <= 52.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     m = as_mesh(V, F)
     if isinstance(bits, bool) or int(bits) != bits:
@@ -216,7 +230,7 @@ def _t_vector(t, n: int) -> np.ndarray:
     return np.ascontiguousarray(a, dtype=np.int32)
 
 
-def dither_bits(V, t, words, word: str = "fixed32") -> np.ndarray:
+def dither_bits(V: ArrayLike, t: ArrayLike, words: ArrayLike, word: str = "fixed32") -> np.ndarray:
     """Keep the ``t`` most significant bits of every coordinate word and take the rest from ``words``.
 
     The deterministic core of the ch. 3-4 dithered quantizer, for analyses that supply their own
@@ -238,7 +252,7 @@ def dither_bits(V, t, words, word: str = "fixed32") -> np.ndarray:
     return _core.dither_bits(Vv, _t_vector(t, len(Vv)), np.ascontiguousarray(W.astype(np.uint64, copy=False)), word)
 
 
-def dithered_quantize(V, t, seed: int = 0, word: str = "fixed32") -> np.ndarray:
+def dithered_quantize(V: ArrayLike, t: ArrayLike, seed: int = 0, word: str = "fixed32") -> np.ndarray:
     """:func:`dither_bits` with random words drawn from ``seed`` (64 bits per coordinate, row by row).
 
     V (n, 3) or a Mesh; t scalar or (n,); returns (n, 3) float64.
@@ -247,10 +261,12 @@ def dithered_quantize(V, t, seed: int = 0, word: str = "fixed32") -> np.ndarray:
     return _core.dithered_quantize(Vv, _t_vector(t, len(Vv)), _seed(seed), word)
 
 
-def dither(V, F=None, *, bits: int, seed: int = 0, word: str = "fixed32") -> Mesh:
+def dither(V: MeshLike, F: FacesLike = None, *, bits: int, seed: int = 0, word: str = "fixed32") -> Mesh:
     """The dithered quantizer as an attack: keep ``bits`` most significant bits per coordinate word,
     randomize the rest (see :func:`dither_bits`). Returns a Mesh with the same faces; MeshError if the
-    result has a non-finite coordinate (float64 words with few bits kept)."""
+    result has a non-finite coordinate (float64 words with few bits kept).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     m = as_mesh(V, F)
     V2 = dithered_quantize(m.V, int(bits), seed, word)
     return Mesh.from_polygons(V2, m.face_indices, m.face_offsets)
@@ -258,11 +274,13 @@ def dither(V, F=None, *, bits: int, seed: int = 0, word: str = "fixed32") -> Mes
 
 # --- connectivity-changing attacks -------------------------------------------------------------------
 
-def simplify(V, F=None, *, fraction: float) -> Mesh:
+def simplify(V: MeshLike, F: FacesLike = None, *, fraction: float) -> Mesh:
     """Edge-collapse simplification down to ``round(fraction * t)`` triangles (CGAL, Garland-Heckbert
     quadrics, optimal placement). Polygons are triangulated first; unreferenced vertices are dropped;
     vertex order is not preserved. The thesis-style strengths keep 90/70/50/25 % of the faces.
     MeshError if fraction is outside (0, 1] or the mesh is too small (target below 4 triangles).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     m = as_mesh(V, F)
     fr = _finite(fraction, "simplification fraction")
@@ -270,7 +288,7 @@ def simplify(V, F=None, *, fraction: float) -> Mesh:
     return Mesh(V2, T2)
 
 
-def subdivide(V, F=None, *, scheme: str = "loop", levels: int = 1) -> Mesh:
+def subdivide(V: MeshLike, F: FacesLike = None, *, scheme: str = "loop", levels: int = 1) -> Mesh:
     """1-to-4 subdivision, ``levels`` times: ``scheme="midpoint"`` (edge midpoints, geometry unchanged)
     or ``"loop"`` (Loop's masks; boundary rules 3/4 v + 1/8 (p + q) and edge midpoints). Polygons are
     triangulated first. Original vertices keep their ids; edge vertices follow (see docs/attacks.md).
@@ -287,7 +305,8 @@ def subdivide(V, F=None, *, scheme: str = "loop", levels: int = 1) -> Mesh:
     return Mesh(Vc, T, validate=False)
 
 
-def crop(V, F=None, *, fraction: float, normal=(1.0, 0.0, 0.0), return_kept: bool = False):
+def crop(V: MeshLike, F: FacesLike = None, *, fraction: float, normal: ArrayLike = (1.0, 0.0, 0.0),
+         return_kept: bool = False) -> Mesh | tuple[Mesh, IntArray]:
     """Cut away the slab of relative thickness ``fraction`` at the ``+normal`` end of the mesh.
 
     ``s = v . n``; faces with every corner at ``s <= max(s) - fraction (max(s) - min(s))`` are kept
@@ -304,7 +323,7 @@ def crop(V, F=None, *, fraction: float, normal=(1.0, 0.0, 0.0), return_kept: boo
 
 # --- storage round trips -----------------------------------------------------------------------------
 
-def float32_cast(V, F=None) -> Mesh:
+def float32_cast(V: MeshLike, F: FacesLike = None) -> Mesh:
     """Round every coordinate to the nearest float32 (as Blender, glTF and float PLY/STL store them)."""
     m = as_mesh(V, F)
     return _same_faces(m, m.V.astype(np.float32).astype(np.float64))
@@ -317,13 +336,15 @@ _ROUNDTRIP = {
 }
 
 
-def file_roundtrip(V, F=None, *, format: str = "obj", decimals: int | None = None) -> Mesh:
+def file_roundtrip(V: MeshLike, F: FacesLike = None, *, format: str = "obj", decimals: int | None = None) -> Mesh:
     """Write the mesh with :func:`meshmark.write_mesh` and read it back (a storage attack).
 
     ``"obj"``: fixed notation with ``decimals`` decimals (default 6, as OBJ exporters write: "OBJ at
     6 digits"); ``"ply"``: binary float32; ``"stl"``: binary (float32, triangles only, corners welded
     on equal coordinates: vertex order and unreferenced vertices may change). ``decimals`` (0..17) is
     for OBJ only.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     from ..io import read_mesh, write_mesh
 

@@ -6,12 +6,13 @@ import math
 import numpy as np
 
 from .._core import MeshError
-from ..mesh import Mesh, as_mesh
+from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
 
 AXES = ("x", "y", "z")
 
 
-def bend(V, F=None, *, degrees: float = 30.0, joint: float = 0.5, width: float = 0.1, along: str = "z",
+def bend(V: MeshLike, F: FacesLike = None, *, degrees: float = 30.0, joint: float = 0.5, width: float = 0.1,
+         along: str = "z",
          absolute: bool = False) -> Mesh:
     """Bend the mesh at a joint by two-bone linear blend skinning (deterministic, no seed).
 

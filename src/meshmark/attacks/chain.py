@@ -19,8 +19,9 @@ import math
 import numpy as np
 
 from .._core import MeshError
-from ..mesh import as_mesh
+from ..mesh import as_mesh, Mesh, MeshPair
 from .registry import ATTACKS, parameters, takes_seed
+from typing import Any, Sequence
 
 #: the parameter a bare value sets in each step (None: the step takes no positional value)
 POSITIONAL = {
@@ -109,7 +110,7 @@ def parse_chain(text: str) -> list:
     return steps
 
 
-def format_chain(steps) -> str:
+def format_chain(steps: Sequence[tuple[str, dict[str, Any]]]) -> str:
     """The chain text of ``steps`` (a list of ``(name, params)``); ``parse_chain`` reads it back."""
     out = []
     for name, params in steps:
@@ -153,7 +154,7 @@ def step_seed(name: str, params: dict, seed: int, j: int) -> dict:
     return dict(params)
 
 
-def chain(mesh, spec, *, seed: int = 0):
+def chain(mesh: MeshPair, spec: str | Sequence[tuple[str, dict[str, Any]]], *, seed: int = 0) -> Mesh:
     """Apply the attack chain ``spec`` (a chain text or a list of ``(name, params)``) to ``mesh`` (a
     Mesh, or ``(V, F)``) in order.
 

@@ -4,10 +4,11 @@ from __future__ import annotations
 import inspect
 
 from .._core import MeshError
-from ..mesh import Mesh
+from ..mesh import FacesLike, Mesh, MeshLike
 from . import basic as B
 from .bend import bend
 from .remesh import remesh
+from typing import Any
 
 ATTACKS = {
     "similarity": B.similarity,
@@ -43,10 +44,12 @@ def takes_seed(name: str) -> bool:
     return "seed" in parameters(name)
 
 
-def attack(V, F=None, *, name: str, **params) -> Mesh:
+def attack(V: MeshLike, F: FacesLike = None, *, name: str, **params: Any) -> Mesh:
     """Apply the attack ``name`` (a key of :data:`ATTACKS`) with keyword ``params``.
 
     MeshError for an unknown name or a parameter the attack does not take.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     fn = ATTACKS.get(name)
     if fn is None:

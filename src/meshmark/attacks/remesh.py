@@ -3,11 +3,12 @@ from __future__ import annotations
 
 from .. import _core
 from .._core import MeshError
-from ..mesh import Mesh, as_mesh
+from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
 from .basic import _finite, _tri
 
 
-def remesh(V, F=None, *, edge_length: float = 1.0, iterations: int = 3, return_target: bool = False):
+def remesh(V: MeshLike, F: FacesLike = None, *, edge_length: float = 1.0, iterations: int = 3,
+           return_target: bool = False) -> Mesh | tuple[Mesh, float]:
     """Isotropic remeshing towards edges of ``edge_length`` x the mean edge length of the input.
 
     CGAL's ``isotropic_remeshing`` (Botsch and Kobbelt 2004): ``iterations`` rounds (default 3) of

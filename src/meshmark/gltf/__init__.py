@@ -8,12 +8,15 @@ marked positions written back into a copy of the asset with everything else unch
 ``meshmark.read_mesh`` / ``write_mesh`` dispatch here on the extension (``write_mesh("x.glb", mesh,
 source=info)`` writes back; without ``source`` a minimal glTF of the mesh). See ``docs/gltf.md``.
 """
+from __future__ import annotations
+
+from typing import Any
 import importlib
 
 EXTENSIONS = (".glb", ".gltf")
 
 
-def is_gltf(path) -> bool:
+def is_gltf(path: Any) -> bool:
     """Whether ``path`` names a glTF file (by its extension)."""
     import os
     try:

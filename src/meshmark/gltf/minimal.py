@@ -11,11 +11,14 @@ import numpy as np
 import pygltflib
 
 from .._core import MeshError
-from ..mesh import as_mesh
+from ..mesh import as_mesh, FacesLike, MeshLike
+from .._typing import PathLike
 
 
-def gltf_bytes(path, V, F=None) -> bytes:
-    """The bytes of a minimal glTF holding the mesh (container from ``path``'s extension)."""
+def gltf_bytes(path: PathLike, V: MeshLike, F: FacesLike = None) -> bytes:
+    """The bytes of a minimal glTF holding the mesh (container from ``path``'s extension).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     mesh = as_mesh(V, F)
     ext = os.path.splitext(os.fspath(path))[1].lower()
     if ext not in (".glb", ".gltf"):
@@ -51,8 +54,10 @@ def gltf_bytes(path, V, F=None) -> bytes:
     return g.gltf_to_json().encode("utf-8")
 
 
-def write_gltf(path, V, F=None) -> None:
-    """Write the mesh as a minimal glTF to ``path`` (``.glb`` or ``.gltf``)."""
+def write_gltf(path: PathLike, V: MeshLike, F: FacesLike = None) -> None:
+    """Write the mesh as a minimal glTF to ``path`` (``.glb`` or ``.gltf``).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     data = gltf_bytes(path, V, F)
     try:
         with open(path, "wb") as f:

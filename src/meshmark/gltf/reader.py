@@ -24,6 +24,7 @@ from ..mesh import Mesh
 from ..parts import Joined, join
 from . import accessors as acc
 from .container import Container, _shown, load
+from .._typing import PathLike
 
 TRIANGLE_MODES = (pygltflib.TRIANGLES, pygltflib.TRIANGLE_STRIP, pygltflib.TRIANGLE_FAN)
 
@@ -52,6 +53,8 @@ class Part:
     morph_targets: int
 
     def to_dict(self) -> dict:
+        """The JSON-ready summary of one primitive (accessor, primitives, name, counts, encoding,
+        morph targets); no arrays."""
         return {"accessor": self.accessor, "aliases": list(self.aliases),
                 "primitives": [list(p) for p in self.primitives], "name": self.name, "n_vertices": self.n_vertices,
                 "n_faces": self.n_faces, "encoding": self.encoding, "interleaved": self.interleaved,
@@ -79,6 +82,7 @@ class GltfInfo:
     n_animations: int = 0
 
     def to_dict(self) -> dict:
+        """The JSON-ready summary of the asset (container, parts, skinned, n_animations, notes); no arrays."""
         return {"container": self.container, "n_parts": len(self.parts), "parts": [p.to_dict() for p in self.parts],
                 "skinned": self.skinned, "n_animations": self.n_animations, "notes": list(self.notes)}
 
@@ -109,7 +113,7 @@ def _primitives(doc: dict, where: str):
             yield mi, pi, m.get("name"), acc._typed(pygltflib.Primitive, p, f"{where}: mesh {mi} primitive {pi}")
 
 
-def read(path, *, drop_collapsed: bool = True) -> tuple[Mesh, GltfInfo]:
+def read(path: PathLike, *, drop_collapsed: bool = True) -> tuple[Mesh, GltfInfo]:
     """Read a ``.glb`` / ``.gltf`` as one :class:`~meshmark.Mesh` and its :class:`GltfInfo`.
 
     Triangles that repeat a vertex (strip restarts, collapsed triangles) are dropped and counted

@@ -23,6 +23,7 @@ from . import accessors as acc
 from .container import Container, _shown, glb_bytes, resolve_uri
 from .jsonspans import find_spans
 from .reader import GltfInfo, container_of
+from .._typing import ArrayLike, PathLike
 
 
 def _num(x) -> str:
@@ -214,7 +215,7 @@ def _quote(path: str) -> str:
     return urllib.parse.quote(path.replace(os.sep, "/"), safe="/")
 
 
-def plan_write(info: GltfInfo, V, out_path) -> list:
+def plan_write(info: GltfInfo, V: ArrayLike, out_path: PathLike) -> list:
     """The files that hold the asset of ``info`` with the joined vertex positions ``V`` (``(n, 3)``, as
     returned by :func:`meshmark.gltf.read` and then marked): ``[(path, bytes)]``, the asset first,
     then any external ``.bin`` written beside it. Nothing is written. Raises MeshError if the output's
@@ -282,10 +283,13 @@ def plan_write(info: GltfInfo, V, out_path) -> list:
     return files + sidecars
 
 
-def write_positions(info: GltfInfo, V, out_path, overwrite: bool = True) -> list:
+def write_positions(info: GltfInfo, V: ArrayLike, out_path: PathLike, overwrite: bool = True) -> list:
     """Write the asset of ``info`` with positions ``V`` to ``out_path`` (and any external ``.bin``
     beside it), all files or none. Returns the paths written. ``overwrite=False``: MeshError naming
-    the first file that exists (before anything is written)."""
+    the first file that exists (before anything is written).
+
+    ``V``: (n, 3) float64 positions, one row per vertex of the joined mesh :func:`read` returned, in mesh units
+    (each primitive's own space)."""
     files = plan_write(info, V, out_path)
     write_all([(p, (lambda data: lambda tmp: _write_bytes(tmp, data))(d)) for p, d in files],
               what=["glTF asset"] + ["glTF buffer"] * (len(files) - 1), overwrite=overwrite)

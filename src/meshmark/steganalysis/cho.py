@@ -34,7 +34,8 @@ import numpy as np
 from .. import _core
 from .._core import MeshError
 from ..ranges import MAX_COUNT, ParameterError, check_bool, check_float, check_int
-from ..mesh import vertices_and_mask
+from ..mesh import FacesLike, MeshLike, vertices_and_mask
+from .._typing import ArrayLike
 
 RULES = ("margin", "thesis")
 #: largest K_max: a scan to K visits about K^2 / 2 bins (the EM fits of the thesis' rule ~100 times that);
@@ -69,11 +70,14 @@ def balance_p_value(size_C: int, size_Ctilde: int) -> float:
     return float(min(1.0, sum(math.comb(n, k) for k in range(n + 1) if abs(k - n / 2) >= d) / 2.0 ** n))
 
 
-def check_options(K_min=1, K_max=500, rule=None, false_alarm=0.01, trim=3, min_count=5, eps=0.15, eps2=0.03,
-                  min_bins=8, thesis_exact=False, false_reject=0.01) -> dict:
+def check_options(K_min: int = 1, K_max: int = 500, rule: str | None = None, false_alarm: float = 0.01,
+                  trim: int = 3, min_count: int = 5, eps: float = 0.15, eps2: float = 0.03,
+                  min_bins: int = 8, thesis_exact: bool = False, false_reject: float = 0.01) -> dict:
     """Every option of :func:`analyze` against its documented range (docs/radial.md §3.3), before any
     work: a :class:`~meshmark.ranges.ParameterError` naming the option otherwise. Returns them resolved
-    (``rule`` None -> "thesis" with ``thesis_exact``, else "margin")."""
+    (``rule`` None -> "thesis" with ``thesis_exact``, else "margin"). ``eps`` and ``eps2`` are unitless
+    tolerances on the normalised bin means (in [0, 1]) and on cluster sizes; ``false_alarm`` and
+    ``false_reject`` are probabilities."""
     o = {"K_min": check_int("K_min", K_min, 1, MAX_K_SCAN), "K_max": check_int("K_max", K_max, 1, MAX_K_SCAN)}
     if o["K_max"] < o["K_min"]:
         raise ParameterError("K_max", f"K_max must be at least K_min = {o['K_min']}, got {o['K_max']}")
@@ -96,7 +100,8 @@ def check_options(K_min=1, K_max=500, rule=None, false_alarm=0.01, trim=3, min_c
     return o
 
 
-def analyze(V, F=None, K_min: int = 1, K_max: int = 500, rule: str | None = None, false_alarm: float = 0.01,
+def analyze(V: MeshLike, F: FacesLike = None, K_min: int = 1, K_max: int = 500, rule: str | None = None,
+            false_alarm: float = 0.01,
             trim: int = 3, min_count: int = 5, eps: float = 0.15, eps2: float = 0.03, min_bins: int = 8,
             thesis_exact: bool = False, false_reject: float = 0.01, fit_em: bool = True) -> dict:
     """Run the §6.4 steganalyzer on ``V`` (n, 3) (with faces ``F``: referenced vertices only).
@@ -148,7 +153,7 @@ def analyze(V, F=None, K_min: int = 1, K_max: int = 500, rule: str | None = None
     return r
 
 
-def margin_test(means, counts, trim: int = 3, min_count: int = 5, min_bins: int = 8) -> dict:
+def margin_test(means: ArrayLike, counts: ArrayLike, trim: int = 3, min_count: int = 5, min_bins: int = 8) -> dict:
     """The native margin test of one K (docs/radial.md §3.2) on bin means (K,) and counts (K,):
     ``ok``, ``log_p`` (natural log of p), ``hole`` (h), ``q``, ``n_bins``, ``n_above``."""
     return _core.cho_margin_test(np.asarray(means, float).ravel().tolist(), np.asarray(counts, int).ravel().tolist(),
@@ -156,9 +161,11 @@ def margin_test(means, counts, trim: int = 3, min_count: int = 5, min_bins: int 
                                  check_int("min_bins", min_bins, 2, MAX_K_SCAN))
 
 
-def gaussian_mixture_2(x, reg_covar: float = 1e-6, tol: float = 1e-3, max_iter: int = 100) -> dict:
+def gaussian_mixture_2(x: ArrayLike, reg_covar: float = 1e-6, tol: float = 1e-3, max_iter: int = 100) -> dict:
     """The native 1-D two-component EM used by :func:`analyze` (``weights``, ``means``, ``variances``,
-    ``labels``, ``n_iter``, ``converged``, ``lower_bound``, ``ok``)."""
+    ``labels``, ``n_iter``, ``converged``, ``lower_bound``, ``ok``).
+
+    ``x``: (k,) samples."""
     return _core.gaussian_mixture_2(np.asarray(x, float).ravel().tolist(), reg_covar, tol, max_iter)
 
 

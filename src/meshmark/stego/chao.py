@@ -15,7 +15,8 @@ import numpy as np
 
 from .. import _core
 from .._core import MeshError
-from ..mesh import as_mesh
+from ..mesh import as_mesh, Mesh
+from .._typing import ArrayLike
 
 
 @dataclass
@@ -44,13 +45,16 @@ def _bits_of(message) -> np.ndarray:
     return np.unpackbits(np.frombuffer(bytes(message), dtype=np.uint8))
 
 
-def capacity(mesh, n_layers: int = 10, n_intervals: int = 10000) -> int:
+def capacity(mesh: Mesh, n_layers: int = 10, n_intervals: int = 10000) -> int:
+    """Bits the Chao et al. method can hide in ``mesh`` (a Mesh, ``V`` (n, 3) float64): 3 bits (one per coordinate) per
+    carrier vertex (all but the frame vertices) and layer."""
     V = _vertices(mesh)
     f = _core.chao_frame(V)
     return int(len(_core.chao_carriers(V.shape[0], f)) * 3 * n_layers)
 
 
-def embed(mesh, bits=None, *, message=None, n_layers: int = 10, n_intervals: int = 10000,
+def embed(mesh: Mesh, bits: ArrayLike | None = None, *, message: bytes | None = None, n_layers: int = 10,
+          n_intervals: int = 10000,
           fill: bool = False, seed: int | None = None) -> ChaoResult:
     """Embed ``bits`` (0/1 array) or ``message`` (bytes/str, 8 bits per byte, MSB first).
 
@@ -79,10 +83,12 @@ def embed(mesh, bits=None, *, message=None, n_layers: int = 10, n_intervals: int
                       n_layers=int(n_layers), n_intervals=int(n_intervals))
 
 
-def extract(mesh, n_bits: int, *, frame: dict | None = None, n_layers: int = 10,
+def extract(mesh: Mesh, n_bits: int, *, frame: dict | None = None, n_layers: int = 10,
             n_intervals: int = 10000) -> np.ndarray:
     """The first ``n_bits`` bits (uint8 0/1). ``frame=None`` is the blind mode of the paper (PCA and
-    V_a, V_b recomputed from the marked mesh); with the embedder's ``frame`` the bits are exact."""
+    V_a, V_b recomputed from the marked mesh); with the embedder's ``frame`` the bits are exact.
+
+    ``mesh``: a Mesh with ``V`` (n, 3) float64; returns (n_bits,) uint8."""
     V = _vertices(mesh)
     f = _core.chao_frame(V) if frame is None else frame
     return _core.chao_extract(V, f, int(n_bits), int(n_layers), int(n_intervals))

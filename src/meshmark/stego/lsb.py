@@ -32,6 +32,8 @@ from .. import _core
 from .._core import MeshError
 from ..mesh import Mesh, as_mesh
 from . import crypto
+from .._typing import IntArray
+from typing import Callable
 
 PRECISIONS = ("fixed32", "float32", "float64")
 _MAX_ATTEMPTS = 4
@@ -75,7 +77,8 @@ def _adaptive_mode(adaptive) -> str:
     return adaptive
 
 
-def level_function(tolerance: float = 1.0, adaptive=True, levels=None, bound: str = "appr"):
+def level_function(tolerance: float = 1.0, adaptive: bool | str = True, levels: int | Callable[[Mesh], int | IntArray] | None = None,
+                   bound: str = "appr") -> Callable[[Mesh], int | IntArray]:
     """mesh -> levels i (int, or (n,) ints) of §4.3.1, from ``meshmark.analysis``:
 
     * ``adaptive=True`` / ``"triangle"``: eq. 4.3.25 with eps_j = tolerance for every triangle, a vertex
@@ -234,8 +237,11 @@ class ExtractResult:
     reason: str = ""
 
 
-def capacity(mesh, tolerance: float = 1.0, adaptive=True, precision: str = "fixed32", levels=None) -> dict:
-    """Capacity of ``mesh`` for one precision: bits, bits per vertex, longest message in bytes."""
+def capacity(mesh: Mesh, tolerance: float = 1.0, adaptive: bool | str = True, precision: str = "fixed32",
+             levels: int | Callable[[Mesh], int | IntArray] | None = None) -> dict:
+    """Capacity of ``mesh`` for one precision: bits, bits per vertex, longest message in bytes.
+
+    ``mesh``: a Mesh with ``V`` (n, 3) float64; ``tolerance`` in degrees of normal change."""
     m = _check_mesh(mesh)
     precision = _check_precision(precision)
     level_fn = level_function(tolerance, adaptive, levels)
@@ -316,8 +322,8 @@ def _extract_frame_bits(V, mesh, level_fn, precision, fr, key):
     return msg, ""
 
 
-def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
-          precision: str = "fixed32", levels=None) -> EmbedResult:
+def embed(mesh: Mesh, message: bytes, key: str | bytes, tolerance: float = 1.0, adaptive: bool | str = True,
+          precision: str = "fixed32", levels: int | Callable[[Mesh], int | IntArray] | None = None) -> EmbedResult:
     """Hide ``message`` (bytes; str is UTF-8 encoded) in ``mesh`` under ``key`` (§4.3.2).
 
     ``tolerance``: mean normal degradation budget in degrees; ``adaptive``: see
@@ -389,12 +395,15 @@ def embed(mesh, message: bytes, key, tolerance: float = 1.0, adaptive=True,
                     "try another tolerance or precision")
 
 
-def extract(mesh, key, tolerance: float = 1.0, adaptive=True, precision: str = "fixed32",
-            levels=None) -> ExtractResult:
+def extract(mesh: Mesh, key: str | bytes, tolerance: float = 1.0, adaptive: bool | str = True,
+            precision: str = "fixed32",
+            levels: int | Callable[[Mesh], int | IntArray] | None = None) -> ExtractResult:
     """The message hidden by :func:`embed` with the same key, tolerance, adaptive flag and precision,
     or ``found=False`` with reason :data:`NO_MESSAGE` (wrong key, damaged or clean mesh: never
     garbage, and the same answer for all three; "damaged message" only once the key's header
-    authenticated)."""
+    authenticated).
+
+    ``mesh``: a Mesh with ``V`` (n, 3) float64; ``tolerance`` in degrees of normal change."""
     m = _check_mesh(mesh)
     precision = _check_precision(precision)
     kb = crypto.key_bytes(key)

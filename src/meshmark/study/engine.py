@@ -40,6 +40,9 @@ from .expansion import plan
 from .model import Spec
 from .spec import load_spec
 from . import task as T
+from .._typing import PathLike
+from typing import Callable
+from typing import Any
 
 BASE_COLUMNS = {
     "key": pa.string(), "mesh": pa.string(), "mesh_digest": pa.string(), "mesh_vertices": pa.int64(),
@@ -74,7 +77,8 @@ class Summary:
     plan_seconds: float = 0.0
     failures: list = field(default_factory=list)
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
+        """The summary's fields as a plain dict (task counts, seconds, failures)."""
         return dict(self.__dict__)
 
 
@@ -93,7 +97,7 @@ def finished_keys(out) -> set:
     return keys
 
 
-def load_results(out, volatile: bool = True) -> pa.Table:
+def load_results(out: PathLike, volatile: bool = True) -> pa.Table:
     """Every result row under ``out`` (one per key), sorted by key; ``volatile=False`` drops the
     timing, worker and attempt columns (what two runs of a spec must agree on bit for bit)."""
     parts = _parts(out)
@@ -297,9 +301,10 @@ def task_kind(spec):
     return getattr(importlib.import_module(mod), fn), raw, base
 
 
-def run(spec, out, *, workers: int | None = None, dask: str | None = None, progress: bool | None = None,
-        retries: int = 1, ship_meshes: bool = False, chunk_size: int | None = None, log=None,
-        max_tasks: int | None = None) -> Summary:
+def run(spec: Spec | PathLike | dict[str, Any], out: PathLike, *, workers: int | None = None,
+        dask: str | None = None, progress: bool | None = None,
+        retries: int = 1, ship_meshes: bool = False, chunk_size: int | None = None,
+        log: Callable[[str], None] | None = None, max_tasks: int | None = None) -> Summary:
     """Run (or resume) the study ``spec`` (path, TOML text, dict or Spec) with results under ``out``."""
     log = log or (lambda s: print(s, file=sys.stderr, flush=True))
     if dask:  # before anything is planned or written
@@ -393,7 +398,7 @@ def run(spec, out, *, workers: int | None = None, dask: str | None = None, progr
     return S
 
 
-def status(out, spec=None) -> dict:
+def status(out: PathLike, spec: Spec | PathLike | dict[str, Any] | None = None) -> dict:
     """Counts by status (and by method) of the results under ``out``; with ``spec`` also how many
     planned tasks are not done yet."""
     t = load_results(out)

@@ -11,6 +11,8 @@ import numpy as np
 from .meshes import mesh_digest
 from .model import Spec, canon, digest
 from .validation import Checker
+from .._typing import IntArray
+from typing import Sequence
 
 
 def expand_values(ck: Checker, entry: dict, path: tuple, known: set | None, what: str, seed_text: str):
@@ -95,7 +97,7 @@ def level(params, varying, level_key):
 
 
 
-def plan(spec: Spec, mesh_digests=None):
+def plan(spec: Spec, mesh_digests: Sequence[str] | None = None) -> tuple[list[str], IntArray, list[str]]:
     """Every task of the spec, mesh-major: ``(keys (T,) list of 32-hex str, index (T, 4) int32 array of
     (mesh, method, seed, attack) indices, mesh digests)``.
 

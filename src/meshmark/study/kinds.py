@@ -49,6 +49,7 @@ from typing import Callable
 import numpy as np
 
 from .._core import MeshError
+from .._typing import ArrayLike
 
 #: modules imported (by the driver before checking a spec, and by every worker) for every study:
 #: put the name of a module that registers method kinds or measurements at import time here
@@ -80,9 +81,11 @@ class Read:
     message_ok: bool
 
     @classmethod
-    def compare(cls, sent, got, p_threshold: float | None = None) -> "Read":
+    def compare(cls, sent: ArrayLike, got: ArrayLike, p_threshold: float | None = None) -> "Read":
         """The read-back figures of ``got`` against ``sent`` (0/1 arrays of one length); detected when
-        P(false alarm) (metrics.false_alarm_probability) < p_threshold (default the framework's 1e-6)."""
+        P(false alarm) (metrics.false_alarm_probability) < p_threshold (default the framework's 1e-6).
+
+        ``sent``, ``got``: (k,) arrays."""
         from ..metrics import correlation, false_alarm_probability, normalized_correlation
         from ..watermark.framework import DETECTION_THRESHOLD
         p_threshold = DETECTION_THRESHOLD if p_threshold is None else p_threshold

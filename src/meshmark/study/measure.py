@@ -27,6 +27,7 @@ import numpy as np
 import pyarrow as pa
 
 from .. import metrics as M
+from typing import Any
 
 
 @dataclass
@@ -44,7 +45,9 @@ MEASUREMENT_MODULES: list = []
 DEFAULT = ["nc", "cdr", "detection", "message", "capacity", "rmse"]
 
 
-def register_measurement(name: str, columns: dict, needs_mark: bool = False, description: str = ""):
+def register_measurement(name: str, columns: dict, needs_mark: bool = False,
+                         description: str = "") -> Callable[[Callable[..., dict[str, Any]]],
+                                                            Callable[..., dict[str, Any]]]:
     """Decorator: register ``fn(ctx) -> dict`` under ``name`` with its declared ``columns``."""
     def deco(fn):
         MEASUREMENTS[name] = Measurement(name, dict(columns), fn, needs_mark, description or (fn.__doc__ or "").strip())

@@ -60,6 +60,7 @@ class Spec:
 
     @property
     def n_tasks(self) -> int:
+        """The number of tasks: meshes x method variants x seeds x attack variants."""
         return len(self.meshes) * len(self.methods) * len(self.attacks) * len(self.seeds)
 
     def common(self) -> dict:

@@ -23,6 +23,8 @@ from .meshes import BUILTINS, MESH_SUFFIXES, mesh_digest, welded_vertices  # noq
 from .model import AttackVariant, MethodVariant, Spec, embed_key  # noqa: F401  (re-exported)
 from .validation import (CHAIN_KEYS, MESH_KEYS, STUDY_KEYS, TOP_KEYS, UNDOABLE, VARIANT_KEYS, Checker, Lines,
                          all_attacks, check_attack_values, check_unique, method_params)
+from .._typing import PathLike
+from typing import Any
 
 try:  # Python >= 3.11
     import tomllib
@@ -32,7 +34,7 @@ except ImportError:  # pragma: no cover - Python 3.10
 
 # --- loading ----------------------------------------------------------------------------------------
 
-def load_spec(spec, base=None) -> Spec:
+def load_spec(spec: PathLike | dict[str, Any], base: PathLike | None = None) -> Spec:
     """A :class:`Spec` from a TOML file path, TOML text, or a dict (relative mesh paths are taken from
     ``base``, default the TOML file's folder or the current directory). MeshError on a bad spec."""
     text, source = None, ""

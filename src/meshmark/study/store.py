@@ -29,6 +29,8 @@ import numpy as np
 
 from .._core import MeshError
 from ..mesh import Mesh
+from .._typing import PathLike
+from typing import Any, Iterator
 
 
 @dataclass
@@ -52,7 +54,7 @@ def _atomic_write(path: pathlib.Path, data: bytes) -> None:
 
 
 class Store:
-    def __init__(self, root):
+    def __init__(self, root: PathLike) -> None:
         self.root = pathlib.Path(root)
 
     def _ref(self, key: str) -> pathlib.Path:
@@ -63,7 +65,7 @@ class Store:
     def _obj(self, digest: str) -> pathlib.Path:
         return self.root / "objects" / digest[:2] / f"{digest}.npz"
 
-    def put(self, key: str, mesh: Mesh, **meta) -> str:
+    def put(self, key: str, mesh: Mesh, **meta: Any) -> str:
         """Store ``mesh`` under ``key`` with JSON-serialisable ``meta``; returns the content digest."""
         buf = io.BytesIO()
         np.savez(buf, V=np.ascontiguousarray(mesh.V), face_indices=np.ascontiguousarray(mesh.face_indices),
@@ -93,6 +95,7 @@ class Store:
     def __contains__(self, key: str) -> bool:
         return self._ref(key).exists() or self._obj(key).exists()
 
-    def keys(self):
+    def keys(self) -> Iterator[str]:
+        """The keys of the stored marked meshes, sorted."""
         for p in sorted((self.root / "refs").glob("*/*.json")):
             yield p.stem

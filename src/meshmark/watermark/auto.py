@@ -30,6 +30,9 @@ import math
 
 from .._core import MeshError
 from . import coding
+from .._typing import IntArray
+from typing import Iterator
+from typing import Any
 
 MODES = ("auto", "thesis")
 
@@ -84,7 +87,8 @@ def _evaluate(mesh, m, given: dict, move_K=None):
         raise first_error
 
 
-def choose(mesh, m, params, method_params: dict, n_data, need: int = None, move_K=None):
+def choose(mesh: Mesh, m: Any, params: Any, method_params: dict, n_data: int | None,
+           need: int | None = None, move_K: Any = None) -> tuple[dict[str, Any], IntArray, Any, dict[str, Any]]:
     """(params, carrier ids, side info, choice record) for method ``m`` on ``mesh``.
 
     ``params``: "auto", "thesis", or a dict of explicit parameters (merged with ``method_params``);
@@ -125,11 +129,14 @@ def choose(mesh, m, params, method_params: dict, n_data, need: int = None, move_
 FALLBACK_PARAMS = {"laplacian": {"carrier": "thesis"}}
 
 
-def fallbacks(mesh, m, method_params: dict, choice: dict, move_K=None):
+def fallbacks(mesh: Mesh, m: Any, method_params: dict, choice: dict,
+              move_K: Any = None) -> Iterator[tuple[dict[str, Any], IntArray, Any, dict[str, Any]]]:
     """What to try, in turn, when the chosen rung's mark does not take on the mesh (rare; e.g. many
     small parts of 36-gons): the later rungs that also fit the payload, then (if the user did not
     choose it) the method's fallback carrier (:data:`FALLBACK_PARAMS`) with its own ladder. Each item is
-    as ``choose`` returns it; deterministic. Not used for ``params="thesis"`` or explicit parameters."""
+    as ``choose`` returns it; deterministic. Not used for ``params="thesis"`` or explicit parameters.
+
+    ``mesh``: a Mesh with ``V`` (n, 3) float64; each item carries its carrier ids (c,) int."""
     if choice.get("mode") != "auto" or choice.get("rule") != 1:
         return
     need = choice.get("needed_carriers")
@@ -145,7 +152,7 @@ def fallbacks(mesh, m, method_params: dict, choice: dict, move_K=None):
                                      "fallback_from": start, **({"fallback": alt} if given.keys() - method_params.keys() else {})}
 
 
-def longest_payload_bits(mesh, m, method_params: dict, move_K=None) -> int:
+def longest_payload_bits(mesh: Mesh, m: Any, method_params: dict, move_K: Any = None) -> int:
     """The longest payload (bits) ``params="auto"`` can embed: the largest over the ladder."""
     return max((coding.max_data_bits(len(ids)) for _, _, ids, _ in _evaluate(mesh, m, dict(method_params), move_K)),
                default=0)

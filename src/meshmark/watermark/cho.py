@@ -33,8 +33,11 @@ import numpy as np
 from .. import _core
 from .._core import MeshError
 from ..ranges import check_bool, check_float, check_int
-from ..mesh import Mesh, vertices_and_mask
+from ..mesh import FacesLike, Mesh, MeshLike, vertices_and_mask
 from . import framework
+from .keyfile import Keyfile
+from .._typing import ArrayLike, FloatArray, PathLike, Progress, UInt8Array
+from typing import Any
 
 NAMES = {"mean": "cho-mean", "variance": "cho-variance"}
 REFERENCE = {"mean": 0.5, "variance": 1.0 / 3.0}
@@ -111,28 +114,38 @@ def _name(method: str) -> str:
     return NAMES[method]
 
 
-def capacity(V, F=None, method: str = "mean", **params) -> int:
-    """Number of non-empty bins = carrier bits, before framing (16 bits) is subtracted."""
+def capacity(V: MeshLike, F: FacesLike = None, method: str = "mean", **params: Any) -> int:
+    """Number of non-empty bins = carrier bits, before framing (16 bits) is subtracted.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.capacity(V, F, method=_name(method), **params)
 
 
-def embed(V, F=None, payload=None, key=None, method: str = "mean", progress=None, **params) -> framework.EmbedResult:
+def embed(V: MeshLike, F: FacesLike = None, payload: str | bytes | None = None, key: str | int | None = None,
+          method: str = "mean", progress: Progress = None, **params: Any) -> framework.EmbedResult:
     """Embed ``payload`` under ``key`` with Cho's mean (``method="mean"``) or variance method.
 
     Parameters: ``K`` bins (64), ``alpha`` (0.04 mean / 0.16 variance), ``delta_k`` (0.001), ``guard``
     (0.005), ``center_iters`` (20), ``thesis_exact`` (False: guard and center_iters default to 0 when True).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
     """
     return framework.embed(V, F, payload=payload, key=key, method=_name(method), progress=progress, **params)
 
 
-def extract(V, F=None, keyfile=None, key=None, progress=None) -> framework.ExtractResult:
-    """Blind extraction and detection with a keyfile written by :func:`embed`."""
+def extract(V: MeshLike, F: FacesLike = None, keyfile: Keyfile | PathLike | None = None,
+            key: str | int | None = None, progress: Progress = None) -> framework.ExtractResult:
+    """Blind extraction and detection with a keyfile written by :func:`embed`.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.extract(V, F, keyfile=keyfile, key=key, progress=progress)
 
 
 # --- the paper's own interface: bit n in bin n, no key ------------------------------------------
-def embed_bits(V, F=None, bits=None, method: str = "mean", K: int | None = None, alpha: float | None = None,
-               delta_k: float = 0.001, guard: float = 0.0, center_iters: int = 0, k_max: float = K_MAX_EXPONENT):
+def embed_bits(V: MeshLike, F: FacesLike = None, bits: ArrayLike = None, method: str = "mean", K: int | None = None,
+               alpha: float | None = None,
+               delta_k: float = 0.001, guard: float = 0.0, center_iters: int = 0,
+               k_max: float = K_MAX_EXPONENT) -> tuple[FloatArray, dict[str, Any]]:
     """Cho's embedding as published (``guard = center_iters = 0``): bit ``n`` (0/1) into bin ``n``.
 
     ``V`` (n, 3) with faces ``F`` (only referenced vertices take part) or a point set (``F=None``);
@@ -154,7 +167,8 @@ def embed_bits(V, F=None, bits=None, method: str = "mean", K: int | None = None,
     return V2, r
 
 
-def extract_bits(V, F=None, n_bits: int = 64, method: str = "mean", K: int | None = None):
+def extract_bits(V: MeshLike, F: FacesLike = None, n_bits: int = 64, method: str = "mean",
+                 K: int | None = None) -> tuple[UInt8Array, dict[str, Any]]:
     """Blind detection as published: ``(bits (n_bits,) uint8, statistics (K,))``, bit = [stat > 1/2 or 1/3]."""
     _name(method)
     V, mask = vertices_and_mask(V, F)

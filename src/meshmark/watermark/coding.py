@@ -45,6 +45,7 @@ import numpy as np
 from .. import _core
 from .._core import MeshError
 from . import keyed_code
+from .._typing import UInt8Array
 
 TBCC = "tbcc7-r13-mac20"
 TBCC9 = "tbcc9-r14-mac20"
@@ -149,7 +150,8 @@ def decode_bits(llr: np.ndarray, n_data: int, scheme: str = TBCC) -> np.ndarray:
     return np.asarray(_core.viterbi_decode(acc, list(gens), K, L, True, wrap_depth(K)))
 
 
-def decode(llr: np.ndarray, n_data: int, kind: str, key: str, method: str, scheme: str | None = None):
+def decode(llr: np.ndarray, n_data: int, kind: str, key: str, method: str,
+           scheme: str | None = None) -> tuple[UInt8Array | None, str]:
     """(data bits or None, reason): the decoded data if it is accepted (convolutional schemes: its keyed
     check matches; KEYED: the maximum-likelihood word passes the 1e-6 threshold)."""
     llr = np.asarray(llr, np.float64)

@@ -42,7 +42,7 @@ import numpy as np
 
 from .. import __version__
 from .._core import MeshError
-from ..mesh import Mesh, as_mesh
+from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
 from ..topology import Welded, weld_vertices
 from ..metrics import cdr as _cdr, false_alarm_probability, normalized_correlation
 from . import keys as _keys
@@ -50,6 +50,8 @@ from .keyfile import Keyfile, load_keyfile
 from . import coding as _coding
 from .payload import Payload, decode as _decode_repeat, repeat_to
 from .methods import METHODS, register, method_named as _method  # noqa: F401  (re-exported)
+from .._typing import PathLike, Progress
+from typing import Any
 
 DETECTION_THRESHOLD = 1e-6
 MIN_CARRIERS = 8
@@ -96,6 +98,8 @@ class EmbedResult:
         return iter((self.V, self.keyfile))
 
     def to_dict(self) -> dict:
+        """The JSON-ready summary (method, capacity, coding, parameters and their choice,
+        weld, the method's stats); no vertex array."""
         c = self.keyfile.coding
         return {"method": self.keyfile.method, "capacity": self.capacity, "n_coded": c["n_coded"],
                 "coding": c["scheme"], "info_bits": c.get("info_bits", c.get("frame_bits")),
@@ -119,7 +123,7 @@ class ExtractResult:
     bits: np.ndarray = None  # (n_coded,) extracted coded bits (0/1), after un-whitening
     n_vertices: int = 0      # vertices the method saw (after welding, if the keyfile welds)
     n_merged: int = 0        # input vertices merged into a coincident copy by welding
-    expected_vertices: int = None  # the keyfile's count (None if it has none)
+    expected_vertices: int | None = None  # the keyfile's count (None if it has none)
 
     @property
     def same_vertex_count(self) -> bool:
@@ -127,6 +131,8 @@ class ExtractResult:
         return self.expected_vertices is None or self.n_vertices == self.expected_vertices
 
     def to_dict(self) -> dict:
+        """The JSON-ready verdict (detected, nc, cdr, matches, bits, p_false_alarm, message,
+        reason, warnings, vertex counts); no arrays."""
         return {"detected": self.detected, "nc": self.nc, "cdr": self.cdr, "matches": self.matches,
                 "bits": self.n_bits, "p_false_alarm": self.p_false_alarm, "message": self.message,
                 "message_ok": self.message_ok, "reason": self.reason, "warnings": list(self.warnings),
@@ -141,13 +147,16 @@ def _weld(mesh: Mesh, weld) -> Welded | None:
     return weld_vertices(mesh) if weld else None
 
 
-def capacity(V, F=None, method: str = "laplacian", weld: bool = True, params="auto", n_data: int = None,
-             key=None, key_bins: bool = False, **method_params) -> int:
+def capacity(V: MeshLike, F: FacesLike = None, method: str = "laplacian", weld: bool = True,
+             params: str | dict[str, Any] = "auto", n_data: int | None = None, key: str | int | None = None,
+             key_bins: bool = False, **method_params: Any) -> int:
     """Number of carrier bits the mesh offers to ``method`` (before coding), on the welded mesh unless
     ``weld=False``: with the parameters ``params="auto"`` (the default) chooses for a payload of
     ``n_data`` bits (:mod:`.auto`; without ``n_data``, its first rung: the published numbers with the
     method's default carrier), or with the published parameters and carrier (``params="thesis"``).
-    With ``key_bins=True`` the bins are the ones :func:`embed` uses with that ``key`` (required)."""
+    With ``key_bins=True`` the bins are the ones :func:`embed` uses with that ``key`` (required).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     mesh = as_mesh(V, F)
     w = _weld(mesh, weld)
     mesh = w.mesh if w is not None else mesh
@@ -215,8 +224,10 @@ def embed_channel(mesh: Mesh, m, p: dict, side: dict, ids, channel: np.ndarray, 
     return Vm, side, stats
 
 
-def embed(V, F=None, payload=None, key=None, method: str = "laplacian", progress=None, weld: bool = True,
-          params="auto", store_key: bool = True, key_bins: bool = False, **method_params) -> EmbedResult:
+def embed(V: MeshLike, F: FacesLike = None, payload: str | bytes | None = None, key: str | int | None = None,
+          method: str = "laplacian", progress: Progress = None, weld: bool = True,
+          params: str | dict[str, Any] = "auto", store_key: bool = True, key_bins: bool = False,
+          **method_params: Any) -> EmbedResult:
     """Embed ``payload`` (text, bit string or Payload) under ``key`` with ``method``.
 
     ``params="auto"`` (default) chooses the method's parameters for this mesh and payload
@@ -335,7 +346,8 @@ def _prepare(mesh: Mesh, kf: Keyfile):
     return mesh, n_merged, warnings, expected
 
 
-def extract(V, F=None, keyfile=None, key=None, progress=None) -> ExtractResult:
+def extract(V: MeshLike, F: FacesLike = None, keyfile: Keyfile | PathLike | None = None,
+            key: str | int | None = None, progress: Progress = None) -> ExtractResult:
     """Extract and detect the watermark described by ``keyfile`` (a path or Keyfile).
 
     ``key`` overrides the keyfile's key (to test a key), and is required when the keyfile was written

@@ -40,6 +40,8 @@ from .._core import MeshError
 from . import keyfile_schema as _schema
 from .keyfile_schema import (FIELDS, FORMAT, MAX_CARRIER_ID, MAX_DEPTH, MESH_CHECKS, PARAM_CHECKS,  # noqa: F401
                              READABLE_VERSIONS, REQUIRED, SIDE_CHECKS, VERSION, _float, _int, _optional, _short, _type)
+from .._typing import PathLike
+from typing import Any
 
 MAX_BYTES = 256 << 20  # a keyfile holds one id per carrier: far below this even for huge meshes
 
@@ -79,7 +81,7 @@ class Keyfile:
         return json.dumps(sign_keyfile(self.to_dict(), self.key), indent=1)
 
     @classmethod
-    def from_dict(cls, d, source: str = "keyfile") -> "Keyfile":
+    def from_dict(cls, d: dict[str, Any], source: str = "keyfile") -> "Keyfile":
         """A Keyfile from its parsed JSON, after :func:`validate_keyfile_dict` (the tag is checked by
         :func:`load_keyfile`, which knows the key)."""
         validate_keyfile_dict(d, source)
@@ -188,7 +190,7 @@ def parse_keyfile_text(raw: bytes, source: str) -> dict:
         raise MeshError(f"{source}: {exc}") from None
 
 
-def load_keyfile(path_or_keyfile, key: str | None = None) -> Keyfile:
+def load_keyfile(path_or_keyfile: Keyfile | PathLike, key: str | None = None) -> Keyfile:
     """Read, validate and check a keyfile (a path, or a Keyfile which is validated and returned).
 
     The tag is checked with the keyfile's own key, or with ``key`` when the keyfile holds none

@@ -24,8 +24,11 @@ from .. import _core
 from .._core import MeshError
 from .. import ranges as _ranges
 from ..ranges import check_bool, check_float, check_int
-from ..mesh import Mesh, as_mesh
+from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
 from . import framework
+from .keyfile import Keyfile
+from .._typing import PathLike, Progress
+from typing import Any
 
 NAME = "laplacian"
 SOLVERS = {"iterative": 5, "direct": 0}  # PCG steps per round (docs/laplacian.md); 0 = one exact solve
@@ -87,11 +90,13 @@ def _triangles(mesh: Mesh, carrier: str = "normal") -> np.ndarray:
 
 
 def mean_edge_length(V: np.ndarray, E: np.ndarray) -> float:
-    """Mean edge length (model units): the scale unit of the normalised Laplacian lengths."""
+    """Mean edge length (model units): the scale unit of the normalised Laplacian lengths.
+
+    ``V`` (n, 3) float64 positions, ``E`` (e, 2) integer edges."""
     return float(_core.mean_edge_length(V, E))
 
 
-def laplacian_lengths(V, F=None, eps: float = 0.0) -> np.ndarray:
+def laplacian_lengths(V: MeshLike, F: FacesLike = None, eps: float = 0.0) -> np.ndarray:
     """(n,) lengths of the Laplacian coordinates, eqs. 7.1.2-7.1.5 (model units; 0 for unreferenced)."""
     mesh = as_mesh(V, F)
     return _core.laplacian_lengths(mesh.V, _edges(mesh), eps)
@@ -238,12 +243,15 @@ METHOD = _Laplacian()
 framework.register(METHOD)
 
 
-def capacity(V, F=None, **params) -> int:
-    """Carrier bits (valid bin pairs, eq. 7.1.8) before coding; ``params``/``n_data`` as in :func:`meshmark.watermark.framework.capacity`."""
+def capacity(V: MeshLike, F: FacesLike = None, **params: Any) -> int:
+    """Carrier bits (valid bin pairs, eq. 7.1.8) before coding; ``params``/``n_data`` as in :func:`meshmark.watermark.framework.capacity`.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.capacity(V, F, method=NAME, **params)
 
 
-def embed(V, F=None, payload=None, key=None, progress=None, **params) -> framework.EmbedResult:
+def embed(V: MeshLike, F: FacesLike = None, payload: str | bytes | None = None, key: str | int | None = None,
+          progress: Progress = None, **params: Any) -> framework.EmbedResult:
     """Embed ``payload`` under ``key``; returns ``EmbedResult(V, keyfile, capacity, stats)``.
 
     Parameters (thesis §7.4 defaults): ``K`` bins (``ceil(N/70)``), ``n_thr`` (46), ``n_robust`` (5),
@@ -253,14 +261,21 @@ def embed(V, F=None, payload=None, key=None, progress=None, **params) -> framewo
     return framework.embed(V, F, payload=payload, key=key, method=NAME, progress=progress, **params)
 
 
-def extract(V, F=None, keyfile=None, key=None, progress=None) -> framework.ExtractResult:
-    """Blind extraction and detection with a keyfile written by :func:`embed`."""
+def extract(V: MeshLike, F: FacesLike = None, keyfile: Keyfile | PathLike | None = None,
+            key: str | int | None = None, progress: Progress = None) -> framework.ExtractResult:
+    """Blind extraction and detection with a keyfile written by :func:`embed`.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.extract(V, F, keyfile=keyfile, key=key, progress=progress)
 
 
-def extract_blind(V, F=None, K=None, n_thr: int = 46, eps: float = 1e-5, thesis_exact: bool = True) -> np.ndarray:
+def extract_blind(V: MeshLike, F: FacesLike = None, K: int | None = None, n_thr: int = 46, eps: float = 1e-5,
+                  thesis_exact: bool = True) -> np.ndarray:
     """The thesis' extraction with no side information at all (§7.3): bins from the mesh's own
-    d_min/d_max, carriers = pairs with f >= n_thr, in order. Returns the raw bits (0/1, 1 = +1)."""
+    d_min/d_max, carriers = pairs with f >= n_thr, in order. Returns the raw bits (0/1, 1 = +1).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces.
+    Returns (c,) uint8."""
     mesh = as_mesh(V, F)
     p = METHOD.resolve(mesh, {"K": K, "n_thr": n_thr, "eps": eps, "thesis_exact": thesis_exact})
     ids, side = METHOD.carriers(mesh, p)

@@ -25,8 +25,11 @@ import numpy as np
 from .. import _core
 from .._core import MeshError
 from ..ranges import check_int
-from ..mesh import Mesh, vertices_and_mask
+from ..mesh import FacesLike, Mesh, MeshLike, vertices_and_mask
 from . import framework
+from .keyfile import Keyfile
+from .._typing import ArrayLike, FloatArray, IntArray, PathLike, Progress, UInt8Array
+from typing import Any
 
 NAME = "radial"
 DEFAULTS = {"K": 400, "n_thr": None, "origin_mode": "axis", "origin_iters": 0}
@@ -69,7 +72,7 @@ def default_n_thr(n_vertices: int, K: int = 400, rule: str = "power") -> int:
     return max(1, int(round(thr * 400.0 / K)))
 
 
-def pair_counts(counts: np.ndarray, K: int):
+def pair_counts(counts: np.ndarray, K: int) -> tuple[IntArray, IntArray, IntArray]:
     """(first bin a (p,), |B_a| (p,), |B_a+1| (p,)) of the pairs (B2,B3), ... (0-based a = 1, 3, ...)."""
     a = np.arange((K - 2) // 2) * 2 + 1
     return a, counts[a], counts[a + 1]
@@ -125,31 +128,40 @@ METHOD = _Radial()
 framework.register(METHOD)
 
 
-def capacity(V, F=None, **params) -> int:
-    """Number of embeddable pairs (eq. 6.1.4) = carrier bits, before framing (16 bits) is subtracted."""
+def capacity(V: MeshLike, F: FacesLike = None, **params: Any) -> int:
+    """Number of embeddable pairs (eq. 6.1.4) = carrier bits, before framing (16 bits) is subtracted.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.capacity(V, F, method=NAME, **params)
 
 
-def embed(V, F=None, payload=None, key=None, progress=None, **params) -> framework.EmbedResult:
+def embed(V: MeshLike, F: FacesLike = None, payload: str | bytes | None = None, key: str | int | None = None,
+          progress: Progress = None, **params: Any) -> framework.EmbedResult:
     """Embed ``payload`` under ``key``. Parameters: ``K`` (400), ``n_thr`` (Table 6.1 / rule),
-    ``origin_mode`` ("axis" or "vertices"), ``origin_iters`` (0)."""
+    ``origin_mode`` ("axis" or "vertices"), ``origin_iters`` (0).
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.embed(V, F, payload=payload, key=key, method=NAME, progress=progress, **params)
 
 
-def extract(V, F=None, keyfile=None, key=None, progress=None) -> framework.ExtractResult:
-    """Blind extraction and detection with a keyfile written by :func:`embed`."""
+def extract(V: MeshLike, F: FacesLike = None, keyfile: Keyfile | PathLike | None = None,
+            key: str | int | None = None, progress: Progress = None) -> framework.ExtractResult:
+    """Blind extraction and detection with a keyfile written by :func:`embed`.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     return framework.extract(V, F, keyfile=keyfile, key=key, progress=progress)
 
 
-def origin(V, F=None, origin_mode: str = "axis"):
+def origin(V: MeshLike, F: FacesLike = None, origin_mode: str = "axis") -> tuple[FloatArray, FloatArray, float]:
     """§6.1.1: ``(o (3,), principal axis u (3,), standardised skewness along u)``."""
     V, mask = vertices_and_mask(V, F)
     return _core.radial_origin(V, mask, origin_mode)
 
 
 # --- the thesis' own interface: bit i in the i-th embeddable pair, no key ----------------------
-def embed_bits(V, F=None, bits=None, K: int = 400, n_thr: int | None = None, origin_mode: str = "axis",
-               origin_iters: int = 0):
+def embed_bits(V: MeshLike, F: FacesLike = None, bits: ArrayLike = None, K: int = 400, n_thr: int | None = None,
+               origin_mode: str = "axis",
+               origin_iters: int = 0) -> tuple[FloatArray, dict[str, Any]]:
     """§6.1 as written: bit ``i`` (0/1) into the ``i``-th embeddable pair (B2,B3), (B4,B5), ...
 
     Returns ``(V' (n, 3) float64, info)`` with ``origin``, ``pairs`` (pair indices used), ``n_mov``,
@@ -169,7 +181,8 @@ def embed_bits(V, F=None, bits=None, K: int = 400, n_thr: int | None = None, ori
     return V2, r
 
 
-def extract_bits(V, F=None, n_bits: int = 64, K: int = 400, origin_mode: str = "axis"):
+def extract_bits(V: MeshLike, F: FacesLike = None, n_bits: int = 64, K: int = 400,
+                 origin_mode: str = "axis") -> tuple[UInt8Array, dict[str, Any]]:
     """§6.2: origin and histogram from the mesh itself, embeddable pairs (eq. 6.2.8) in order,
     eq. 6.2.10. Returns ``(bits (n_bits,) uint8, counts (K,))`` (missing pairs read as 0)."""
     V, mask = vertices_and_mask(V, F)

@@ -37,7 +37,7 @@ import secrets
 import numpy as np
 
 from .._core import MeshError
-from ..mesh import as_mesh
+from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
 from ..metrics import false_alarm_probability
 from . import informed as _informed
 from . import keys as _keys
@@ -46,6 +46,9 @@ from .informed import source_digest  # noqa: F401  (tracing.source_digest: part 
 from .keyfile import Keyfile
 from .methods import method_named
 from .registry import MAX_COPIES, SCHEMA_VERSION, WAIT, Registry, check_copy_id, key_hash  # noqa: F401
+from .._typing import FloatArray, PathLike, Progress
+from typing import Sequence
+from typing import Any
 
 # params="auto" for copies: the first rung of the ladder with at least 64 carriers (27 certify one
 # copy among 100 only when every bit reads right; 64 still certify it with 10 of the 64 bits wrong
@@ -81,14 +84,17 @@ def _plan_ids(n_copies, ids) -> list | None:
     return ids
 
 
-def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: str = "laplacian", params="auto",
-          weld: bool = True, store_key: bool = True, source_name: str = "", progress=None, original=None,
-          informed: bool = True, sink=None, wait: float = WAIT, **method_params):
+def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLike | Registry,
+          n_copies: int | None = None, ids: Sequence[str] | None = None, method: str = "laplacian",
+          params: str | dict[str, Any] = "auto", weld: bool = True, store_key: bool = True, source_name: str = "",
+          progress: Progress = None, original: PathLike | None = None, informed: bool = True, sink: Any = None,
+          wait: float = WAIT,
+          **method_params: Any) -> list[tuple[str, FloatArray]] | list[tuple[str, str]]:
     """Mark copies of the mesh, each with its own random codeword; record them in ``registry`` (a
     path or :class:`Registry`). Give ``n_copies`` (1..MAX_COPIES; numbered after the asset's largest numeric id:
     ``0001``, ...) or ``ids`` (strings usable in a file name, unique within the asset; the same id
-    may be used by another asset). Returns a list of ``(copy_id, V)`` with V the marked vertices
-    (input order), or with ``sink`` a list of ``(copy_id, path)``.
+    may be used by another asset). Returns a list of ``(copy_id, V)`` with V the (n, 3) float64 marked
+    vertices (input order), or with ``sink`` a list of ``(copy_id, path)``.
 
     The whole issue is one write transaction of the registry (``BEGIN IMMEDIATE``): a second issue
     into the same registry waits up to ``wait`` seconds and then numbers its copies after this one's.
@@ -228,7 +234,7 @@ def issue(V, F=None, *, key, registry, n_copies: int = None, ids=None, method: s
             reg.close()
 
 
-def set_paths(registry, paths: dict, asset_id: int | None = None) -> None:
+def set_paths(registry: PathLike | Registry, paths: dict, asset_id: int | None = None) -> None:
     """Record where copies were written (copy id -> path; without ``asset_id``: the copy of that id
     issued last)."""
     own = not isinstance(registry, Registry)
@@ -246,7 +252,8 @@ def set_paths(registry, paths: dict, asset_id: int | None = None) -> None:
             reg.close()
 
 
-def trace(V, F=None, *, registry, key=None, original=None) -> dict:
+def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, key: str | int | None = None,
+          original: Mesh | PathLike | None = None) -> dict:
     """Which issued copy is this mesh? Returns a dict with ``detected``, ``copy`` (id or None),
     ``p_false_alarm`` (corrected for every codeword compared and, when the original was used, for the
     two tests), ``evidence`` (``"informed+blind"`` or ``"blind"``), ``matches``, ``n_carriers``,
@@ -256,7 +263,9 @@ def trace(V, F=None, *, registry, key=None, original=None) -> dict:
 
     ``original``: the original (a path or a Mesh); without it the path recorded by :func:`issue` is
     tried, and an original whose digest differs from the registry's is not used (blind only). A given
-    original that matches no asset of the registry is a MeshError."""
+    original that matches no asset of the registry is a MeshError.
+
+    ``V``: a :class:`~meshmark.Mesh`, or (n, 3) float64 positions in mesh units with ``F`` (m, k) integer faces."""
     from ..io import read_mesh
 
     mesh0 = as_mesh(V, F)
