@@ -150,6 +150,43 @@ def write_table(name: str, header: list, rows: list, note: str = "") -> str:
     return text
 
 
+def bend_over_frames(rig, bone, frames, degrees, turn=None):
+    """Keyframe ``bone``: a bend of ``degrees[i]`` (and a turn about Z of ``turn[i]``) at ``frames[i]``."""
+    pb = rig.pose.bones[bone]
+    pb.rotation_mode = "XYZ"
+    for i, (f, deg) in enumerate(zip(frames, degrees)):
+        pb.rotation_euler = (math.radians(deg), 0.0, math.radians(turn[i]) if turn else 0.0)
+        pb.keyframe_insert("rotation_euler", frame=f)
+
+
+def suzanne_subdivided_and_rigged():
+    """Suzanne with an unapplied Subdivision (level 2) and a neck and head rig, animated over frames
+    1-48 (the neck nods 8 degrees, the head nods 20 and turns 40 each way): (object, modifier, rig)."""
+    bpy.ops.mesh.primitive_monkey_add()
+    suz = bpy.context.active_object
+    sub = suz.modifiers.new("Subdivision", "SUBSURF")
+    sub.levels = 2
+    rig = chain_armature("Rig", [(0, 0, -1.6), (0, 0, -0.9), (0, 0, 1.0)])  # neck, head
+    rig_auto(suz, rig)
+    keys = (1, 12, 24, 36, 48)
+    bend_over_frames(rig, "b0", keys, (0, 8, 0, -8, 0))
+    bend_over_frames(rig, "b1", keys, (0, 20, 0, -20, 0), turn=(0, 40, 0, -40, 0))
+    select_only(suz)
+    return suz, sub, rig
+
+
+def secret_needles(text: str, key: str) -> dict:
+    """What must never be found in a saved file: the text, its hex (lower, upper, the first 64 bytes)
+    and the key, each in UTF-8, UTF-16LE and UTF-16BE."""
+    data = text.encode()
+    hexes = [data.hex(), data.hex().upper(), data[:64].hex()]
+    out = {}
+    for name, s in [("text", text), ("key", key)] + [(f"hex{i}", h) for i, h in enumerate(hexes)]:
+        for enc in ("utf-8", "utf-16-le", "utf-16-be"):
+            out[f"{name}/{enc}"] = s.encode(enc)
+    return out
+
+
 def bridge_faces(obj):
     from meshmark_blender import bridge
     return bridge.faces(obj.data)

@@ -5,7 +5,6 @@ several objects as one carrier (embed, verify, issue, trace), hidden data that n
 The bpy module has no window: modal jobs, undo itself, the autosave and the real panel are exercised
 in Debian's Blender 3.4 under Xvfb (test_blender_ui.py, test_debian_blender.py)."""
 import json
-import math
 import os
 
 import bpy
@@ -25,15 +24,6 @@ def saved_scene(addon, tmp_path):
     return tmp_path
 
 
-def _bend_over_frames(rig, bone, frames, degrees, turn=None):
-    """Keyframe ``bone``: a bend of ``degrees[i]`` (and a turn about Z of ``turn[i]``) at ``frames[i]``."""
-    pb = rig.pose.bones[bone]
-    pb.rotation_mode = "XYZ"
-    for i, (f, deg) in enumerate(zip(frames, degrees)):
-        pb.rotation_euler = (math.radians(deg), 0.0, math.radians(turn[i]) if turn else 0.0)
-        pb.keyframe_insert("rotation_euler", frame=f)
-
-
 def test_subdivision_and_armature_every_frame(saved_scene):
     """Suzanne with an unapplied Subdivision (level 2) and a neck and head rig: the mark goes into the
     cage, Verify and the frame check read the posed cage (the Subdivision left out, and said so) on
@@ -41,16 +31,7 @@ def test_subdivision_and_armature_every_frame(saved_scene):
     the frames are the action's, the modifier is switched back on afterwards. Suzanne's cage is small
     (505 welded vertices): one letter takes the finest automatic setting, and a bend through the middle
     of the head loses it past 5 degrees (docs/blender.md)."""
-    bpy.ops.mesh.primitive_monkey_add()
-    suz = bpy.context.active_object
-    sub = suz.modifiers.new("Subdivision", "SUBSURF")
-    sub.levels = 2
-    rig = rigs.chain_armature("Rig", [(0, 0, -1.6), (0, 0, -0.9), (0, 0, 1.0)])  # neck, head
-    rigs.rig_auto(suz, rig)
-    keys = (1, 12, 24, 36, 48)
-    _bend_over_frames(rig, "b0", keys, (0, 8, 0, -8, 0))
-    _bend_over_frames(rig, "b1", keys, (0, 20, 0, -20, 0), turn=(0, 40, 0, -40, 0))
-    rigs.select_only(suz)
+    suz, sub, rig = rigs.suzanne_subdivided_and_rigged()
     ev = suz.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
     n_eval = len(ev.vertices)
     suz.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh_clear()
@@ -112,16 +93,6 @@ def test_two_objects_two_keyfiles_and_a_guarded_overwrite(saved_scene):
     assert bpy.ops.meshmark.verify() == {"FINISHED"} and last_result()["detected"] is False
 
 
-def _needles(text: str, key: str) -> dict:
-    data = text.encode()
-    hexes = [data.hex(), data.hex().upper(), data[:64].hex()]
-    out = {}
-    for name, s in [("text", text), ("key", key)] + [(f"hex{i}", h) for i, h in enumerate(hexes)]:
-        for enc in ("utf-8", "utf-16-le", "utf-16-be"):
-            out[f"{name}/{enc}"] = s.encode(enc)
-    return out
-
-
 def test_hidden_and_revealed_text_never_reach_the_blend(saved_scene):
     bpy.ops.mesh.primitive_monkey_add()
     bpy.ops.object.modifier_add(type="SUBSURF")
@@ -138,7 +109,7 @@ def test_hidden_and_revealed_text_never_reach_the_blend(saved_scene):
     bpy.ops.wm.save_as_mainfile(filepath=str(path), compress=False)
     data = path.read_bytes()
     assert data[:7] == b"BLENDER" and b"visible-M" in data  # uncompressed: the search sees saved strings
-    found = [name for name, needle in _needles(text, key).items() if needle in data]
+    found = [name for name, needle in rigs.secret_needles(text, key).items() if needle in data]
     assert found == [], found
     bpy.ops.wm.open_mainfile(filepath=str(path))
     assert bpy.data.objects["Suzanne"].get("meshmark_last_result") is None
@@ -190,7 +161,7 @@ def test_character_parts_issue_trace_and_the_api(saved_scene, monkeypatch):
     r = api.embed(parts, message="C", key="char")
     assert r.ok and r.keyfile == str(saved_scene / "Char.meshmark.json") and r.objects == ["Char_Lower", "Char_Upper"]
     assert [p["object"] for p in json.loads(open(r.keyfile).read())["mesh"]["parts"]] == ["Char_Lower", "Char_Upper"]
-    _bend_over_frames(rig, "b1", (1, 10), (0, 45))
+    rigs.bend_over_frames(rig, "b1", (1, 10), (0, 45))
     bpy.context.scene.frame_set(10)
     v = api.verify([upper])
     assert (v.detected, v.message, v.objects) == (True, "C", ["Char_Lower", "Char_Upper"])

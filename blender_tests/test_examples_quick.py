@@ -48,6 +48,23 @@ def test_knight_parts_quick(tmp_path):
     assert f"{d['frames']} frames of 2 actions" in stdout
 
 
+def test_blender_acceptance_quick(tmp_path):
+    """Issue 24's acceptance measured in a quick form (the Knight as knight_parts.py --quick; Suzanne's 48
+    frames, the saved .blend, two keyfiles, and undo in Debian's Blender 3.4 window in full): every
+    criterion met, with its figures in acceptance.json and acceptance.md."""
+    stdout, out = _run("blender_acceptance.py", "--quick", "--parts", "knight", "suzanne", "secrets", "keyfiles",
+                       "undo", "--out", tmp_path)
+    rows = json.loads((tmp_path / "acceptance.json").read_text())
+    assert len(rows) == 5 + 1 + 1 + 1 + 2 and all(r["met"] for r in rows), rows
+    got = {r["criterion"]: r["measured"] for r in rows}
+    assert got["Knight: wrong copy"].startswith("0 frames") and "of 5" in " ".join(got)
+    assert got["Suzanne, Subdivision 2 unapplied + armature: Embed, Verify as posed"].startswith(
+        "detected 48/48, message 48/48 (cage 505 vertices")
+    assert "found: none" in got["After Hide, Reveal, Save (bpy 5.0.1): the .blend"]
+    assert got["Ctrl+Z once after Embed, Verify (Blender 3.4.1 window)"].startswith("identical: True")
+    assert "| Knight: wrong copy | none | 0 frames" in (tmp_path / "acceptance.md").read_text()
+
+
 def test_carrier_skinning_quick(tmp_path):
     """The shared Hand with a generated two-bone rig (every 4th pose of the bend/twist sweep), two carriers:
     the bin-flip study (no flip at the rest pose) and the embed-skin-extract pipeline (exact at rest,

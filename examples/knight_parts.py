@@ -85,7 +85,9 @@ def detect(args, folder):
          "welded_vertices": e.welded_vertices, "actions": len(per), "frames": n,
          "detected": sum(x["detected"] for x in rows) / n, "message_ok": sum(x["message_ok"] for x in rows) / n,
          "mean_cdr": float(np.mean([x["cdr"] for x in rows])), "min_cdr": float(min(x["cdr"] for x in rows)),
-         "worst_actions": sorted(per, key=lambda p: p[2] / p[1])[:5], "seconds": time.perf_counter() - t0}
+         "worst_actions": sorted(per, key=lambda p: (p[2] / p[1], p[3] / p[1]))[:5],
+         "min_action_detected": min(p[2] / p[1] for p in per), "min_action_message": min(p[3] / p[1] for p in per),
+         "seconds": time.perf_counter() - t0}
     return d
 
 
@@ -104,16 +106,20 @@ def trace(args, folder):
             o.data.vertices.foreach_set("co", V[sizes[i]:sizes[i + 1]].astype(np.float32).ravel())
             o.data.update()
         right = wrong = none = 0
+        per = []
         for act in actions():
             rig.animation_data.action = act
+            got = []
             for f in frames_of(act, args.step):
                 bpy.context.scene.frame_set(f)
-                r = api.trace(parts, registry="//copies.sqlite")
-                right += r.copy == leak
-                wrong += r.copy is not None and r.copy != leak
-                none += r.copy is None
+                got.append(api.trace(parts, registry="//copies.sqlite").copy)
+            right += got.count(leak)
+            none += got.count(None)
+            wrong += len(got) - got.count(leak) - got.count(None)
+            per.append((act.name, len(got), got.count(leak) / len(got)))
         n = right + wrong + none
-        out["leaks"][leak] = {"frames": n, "right": right / n, "wrong": wrong, "none": none}
+        out["leaks"][leak] = {"frames": n, "right": right / n, "wrong": wrong, "none": none,
+                              "min_action_right": min(p[2] for p in per), "worst_actions": sorted(per, key=lambda p: p[2])[:3]}
         for o in parts:
             o.data.vertices.foreach_set("co", rest[o.name].ravel())
             o.data.update()
@@ -147,12 +153,15 @@ def main(argv=None):
             d = res["detect"]
             print(f"knight parts: {d['frames']} frames of {d['actions']} actions, key {args.key!r}, {d['capacity']} "
                   f"carriers {d['params']}: detected {100 * d['detected']:.1f} %, message {100 * d['message_ok']:.1f} %, "
-                  f"mean CDR {d['mean_cdr']:.3f} (min {d['min_cdr']:.3f}); worst {d['worst_actions']}", flush=True)
+                  f"mean CDR {d['mean_cdr']:.3f} (min {d['min_cdr']:.3f}); worst action: detected "
+                  f"{100 * d['min_action_detected']:.1f} %, message {100 * d['min_action_message']:.1f} %; "
+                  f"worst {d['worst_actions']}", flush=True)
         if args.part in ("trace", "all"):
             res["trace"] = trace(args, folder)
             for leak, t in res["trace"]["leaks"].items():
                 print(f"knight parts: copy {leak} of {res['trace']['copies']}, {t['frames']} frames: right copy "
-                      f"{100 * t['right']:.1f} %, wrong copy {t['wrong']}, none {t['none']}", flush=True)
+                      f"{100 * t['right']:.1f} % (worst action {100 * t['min_action_right']:.1f} %), wrong copy {t['wrong']}, "
+                      f"none {t['none']}", flush=True)
     name = f"knight_parts_{args.part}_{args.key}_step{args.step}"
     with open(os.path.join(args.out, name + ".json"), "w") as f:
         json.dump(res, f, indent=1, default=str)

@@ -25,6 +25,7 @@ RUNS = {
     "analysis_figures.py": Q + "::test_analysis_figures_on_a_mesh",
     "analysis_tables.py": Q + "::test_analysis_tables_quick",
     "attack_table.py": Q + "::test_attack_table_quick",
+    "blender_acceptance.py": B + "::test_blender_acceptance_quick",
     "blender_analyze.py": "blender_tests/test_examples_hiding.py::test_analyze_and_steganalysis_examples",
     "blender_capacity.py": "blender_tests/test_examples_blender.py::test_capacity_example",
     "blender_deformation_study.py": "blender_tests/test_examples_blender.py::test_embed_verify_and_study_examples",

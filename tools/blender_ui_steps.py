@@ -348,11 +348,8 @@ def _secrets_out_of_the_files(ui, s):
         ui.redraw()
         yield
         autosave = glob.glob(os.path.join(temp, "*autosave*.blend")) + glob.glob(os.path.join(bpy.app.tempdir, "*autosave*.blend"))
-    data = SECRET_TEXT.encode()
-    needles = {}
-    for name, text in (("text", SECRET_TEXT), ("hex", data.hex()), ("HEX", data.hex().upper()), ("key", SECRET_KEY)):
-        for enc in ("utf-8", "utf-16-le", "utf-16-be"):
-            needles[f"{name}/{enc}"] = text.encode(enc)
+    import rigs
+    needles = rigs.secret_needles(SECRET_TEXT, SECRET_KEY)
     found = {}
     for path in [blend] + autosave:
         raw = open(path, "rb").read()
