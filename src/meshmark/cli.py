@@ -14,18 +14,8 @@ from ._core import MeshError
 EXIT_DETECTED, EXIT_NOT_DETECTED, EXIT_INPUT_ERROR, EXIT_INTERNAL_ERROR = 0, 1, 2, 3
 
 
-def _safe(text) -> str:
-    """``text`` printable as UTF-8: bytes from argv that are not UTF-8 (surrogate escapes) are shown
-    as \\xNN instead of failing to print."""
-    text = str(text)
-    try:
-        return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
-    except UnicodeEncodeError:
-        return text.encode("utf-8", "backslashreplace").decode("utf-8")
-
-
-def _emit(result: dict, as_json: bool, text: str) -> None:
-    click.echo(jsonout.dumps(result) if as_json else _safe(text))
+_safe = jsonout.safe
+_emit = jsonout.emit
 
 
 def _format_info(path: str, d: dict) -> str:
@@ -82,21 +72,37 @@ class _Group(click.Group):
                 traceback.print_exc()
             param = getattr(exc, "param", None)
             where = f"{_option_name(ctx, param)}: " if param else ""
-            click.echo(f"meshmark: error: {where}{_safe(exc)}", err=True)
-            sys.exit(EXIT_INPUT_ERROR)
-        except (click.exceptions.ClickException, click.exceptions.Exit, click.exceptions.Abort):
+            _fail(ctx, EXIT_INPUT_ERROR, "input", f"{where}{_safe(exc)}", "error")
+        except click.exceptions.ClickException as exc:  # usage errors: click prints them and exits 2
+            if _json_wanted(ctx):
+                click.echo(jsonout.dumps(jsonout.error_object(exc.exit_code, "usage", exc.format_message())))
+            raise
+        except (click.exceptions.Exit, click.exceptions.Abort):
             raise
         except KeyboardInterrupt:  # Ctrl-C: the shell's status 130, never 1 ("not detected")
-            click.echo("meshmark: interrupted", err=True)
-            sys.exit(128 + 2)
+            _fail(ctx, 128 + 2, "interrupted", "interrupted", None)
         except Exception as exc:  # a bug: never a bare traceback, never status 1 ("not detected")
             if debug:
                 traceback.print_exc()
             msg = _safe(exc)
             msg = msg if len(msg) <= 300 else msg[:300] + "..."
-            click.echo(f"meshmark: internal error: {type(exc).__name__}: {msg} (this is a bug; "
-                       "'meshmark --debug ...' shows the traceback)", err=True)
-            sys.exit(EXIT_INTERNAL_ERROR)
+            _fail(ctx, EXIT_INTERNAL_ERROR, "internal", f"{type(exc).__name__}: {msg} (this is a bug; "
+                  "'meshmark --debug ...' shows the traceback)", "internal error")
+
+
+def _json_wanted(ctx) -> bool:
+    """``--json`` among the command's options (before a ``--``)."""
+    args = [str(a) for a in ctx.meta.get("meshmark.args", ())]
+    return "--json" in (args[:args.index("--")] if "--" in args else args)
+
+
+def _fail(ctx, code: int, kind: str, message: str, label) -> None:
+    """The one failure path of every command: a line on stderr, under ``--json`` also the error
+    object on stdout (jsonout.error_object), then exit ``code``."""
+    click.echo(f"meshmark: {label}: {message}" if label else f"meshmark: {message}", err=True)
+    if _json_wanted(ctx):
+        click.echo(jsonout.dumps(jsonout.error_object(code, kind, message)))
+    sys.exit(code)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
@@ -136,8 +142,8 @@ def info(mesh, as_json):
     # Counts are of the file's records (as SOURCES.md lists them): faces dropped on reading
     # (collapsed, repeating a vertex) count in n_faces and are reported as n_dropped_faces.
     d["n_faces"] = fmt["n_file_faces"]
-    d = {"path": path, **fmt, **d}
-    _emit(d, as_json, _format_info(path, d))
+    d = {"input": path, **fmt, **d}
+    _emit(d, as_json, _format_info(path, d), aliases={"path": "input"})
 
 
 # --- watermarking ---------------------------------------------------------------------------
@@ -308,12 +314,13 @@ def extract(inp, keyfile, key, as_json):
     mesh = read_mesh(inp)
     res = wm_extract(mesh, keyfile=kf, key=key)
     d = {"input": inp, **res.to_dict()}
+    d = {("n_carriers" if k == "bits" else k): v for k, v in d.items()}  # the coded bits read, one per carrier
     lines = [f"watermark {'DETECTED' if res.detected else 'not detected'} in {inp}",
              f"bits matched {res.matches}/{res.n_bits}  NC {res.nc:.3f}  CDR {res.cdr:.3f}  "
              f"P(false alarm) {res.p_false_alarm:.3g}",
              f"message: {res.message!r}" if res.message_ok else f"message not recovered ({res.reason})"]
     lines += [f"warning: {w}" for w in res.warnings]
-    _emit(d, as_json, "\n".join(lines))
+    _emit(d, as_json, "\n".join(lines), aliases={"bits": "n_carriers"})
     sys.exit(EXIT_DETECTED if res.detected else EXIT_NOT_DETECTED)
 
 
@@ -393,8 +400,8 @@ def compare(mesh_a, mesh_b, samples, seed, as_json):
         check_int("samples", samples, 0, 10_000_000)
     check_seed(seed)
     d = run_compare(read_mesh(mesh_a), read_mesh(mesh_b), n_samples=samples, seed=seed)
-    d = {"a": mesh_a, "b": mesh_b, **d}
-    _emit(d, as_json, _format_compare(mesh_a, mesh_b, d))
+    d = {"reference": mesh_a, "input": mesh_b, **d}
+    _emit(d, as_json, _format_compare(mesh_a, mesh_b, d), aliases={"a": "reference", "b": "input"})
 
 
 # --- steganalysis ---------------------------------------------------------------------------

@@ -9,11 +9,6 @@ from . import jsonout
 from ._core import MeshError
 
 
-def _emit(result: dict, as_json: bool, text: str) -> None:
-    text = jsonout.dumps(result) if as_json else str(text)
-    click.echo(text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace"))
-
-
 # CLI option -> keyword of the attack functions (meshmark.attacks); an option given to an attack that
 # does not take it is an error, not silently ignored.
 _ATTACK_OPTIONS = {
@@ -158,9 +153,9 @@ def attack(mesh_in, mesh_out, name, chain_text, force, as_json, **opts):
     same = np.array_equal(out.face_indices, m.face_indices) and np.array_equal(out.face_offsets, m.face_offsets)
     write_all(mesh_outputs(mesh_out, out.V, m if same else out, fmt if same else None), what=["attacked mesh"],
               overwrite=force)
-    d = {"in": mesh_in, "out": mesh_out, "type": label, "params": params,
+    d = {"input": mesh_in, "output": mesh_out, "type": label, "params": params,
          "n_vertices": out.n_vertices, "n_faces": out.n_faces}
     text = f"{label}: wrote {mesh_out} ({out.n_vertices} vertices, {out.n_faces} faces)"
     if as_json:
         d["distortion"] = compare(m, out)
-    _emit(d, as_json, text)
+    jsonout.emit(d, as_json, text, aliases={"in": "input", "out": "output"})

@@ -118,9 +118,10 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
     finally:
         reg.close()
     paths = dict(out)
-    d = {"input": inp, "registry": registry, "copies": [{"id": c, "path": p} for c, p in paths.items()]}
-    click.echo(jsonout.dumps(d) if as_json else
-               f"issued {len(paths)} copies of {inp} into {outdir} (ids {out[0][0]}..{out[-1][0]}); registry {registry}")
+    d = {"input": inp, "output": outdir, "registry": registry,
+         "copies": [{"id": c, "path": p} for c, p in paths.items()]}
+    jsonout.emit(d, as_json,
+                 f"issued {len(paths)} copies of {inp} into {outdir} (ids {out[0][0]}..{out[-1][0]}); registry {registry}")
 
 
 @click.command()
@@ -151,7 +152,7 @@ def trace(suspect, registry, key, original, as_json):
             f"copies, evidence {r['evidence']})" if r["detected"] else
             f"{suspect}: none ({ev}; P(false alarm) {r['p_false_alarm']:.3g} over {r['n_copies']} copies, "
             f"evidence {r['evidence']})")
-    click.echo(jsonout.dumps(d) if as_json else text)
+    jsonout.emit(d, as_json, text)
     sys.exit(0 if r["detected"] else 1)
 
 

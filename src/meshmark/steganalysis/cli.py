@@ -12,8 +12,7 @@ from .. import jsonout
 from .._core import MeshError
 
 
-def _emit(d, as_json, text):
-    click.echo(jsonout.dumps(d) if as_json else text)
+_emit = jsonout.emit
 
 
 def _set_option(f):
@@ -135,7 +134,7 @@ def add_commands(group: click.Group) -> None:
 
         model = Model.load(model_path)
         r = model.detect(inp)
-        d = {"input": inp, "verdict": r["verdict"], "reason": r["reason"], "marked": bool(r["marked"]),
+        d = {"input": inp, "verdict": r["verdict"], "reason": r["reason"], "detected": bool(r["marked"]),
              "probability": r["probability"], "threshold": r["threshold"],
              "methods": r["methods"], "feature_set": r["feature_set"], "classifier": r["classifier"],
              "model": str(model_path or "default")}
@@ -150,14 +149,14 @@ def add_commands(group: click.Group) -> None:
                 d["warning"] = r["warning"]
         per = ", ".join(f"{k} {v:.2f}" for k, v in sorted(r["methods"].items(), key=lambda kv: -kv[1]))
         head = (f"{inp}: CANNOT JUDGE: {d['reason']}" if d["verdict"] == "cannot judge" else
-                f"{inp}: {'MARKED' if d['marked'] else 'no evidence of a mark'} (universal P = {d['probability']:.2f}, "
+                f"{inp}: {'MARKED' if d['detected'] else 'no evidence of a mark'} (universal P = {d['probability']:.2f}, "
                 f"marked above {d['threshold']:.2f})")
         _emit(d, as_json, head + (f"\nper method: {per}" if per else "")
                           + (f"\nwarning: {d['warning']}" if "warning" in d else "")
                           + (f"\nthis model, cross-validated on its covers: {100 * d['operating_point']['cv_fpr']:.0f} % of "
                              f"clean meshes called marked, {100 * d['operating_point']['cv_tpr']:.0f} % of marked ones found"
-                             if "operating_point" in d else ""))
-        sys.exit(0 if d["marked"] else 1)
+                             if "operating_point" in d else ""), aliases={"marked": "detected"})
+        sys.exit(0 if d["detected"] else 1)
 
     @group.command("evaluate")
     @click.argument("covers", nargs=-1, required=True)

@@ -58,8 +58,7 @@ def _adaptive_arg(adaptive: str):
     return {"triangle": True, "curvature": "curvature", "global": False}[adaptive]
 
 
-def _emit(d: dict, as_json: bool, text: str) -> None:
-    click.echo(jsonout.dumps(d) if as_json else text)
+_emit = jsonout.emit
 
 
 def check_stego_output(path: str, force: bool = False, precision: str | None = None) -> None:
@@ -208,7 +207,8 @@ def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_f
     mesh = read_mesh(inp)
     r = extract(mesh, k, tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=precision, levels=level)
     if not r.found:
-        _emit({"input": inp, "found": False, "reason": r.reason}, as_json, f"{inp}: no message ({r.reason})")
+        _emit({"input": inp, "detected": False, "message": None, "reason": r.reason}, as_json,
+              f"{inp}: no message ({r.reason})", aliases={"found": "detected"})
         sys.exit(1)
     if out_file is not None:
         write_bytes(out_file, r.message, what="message file", overwrite=force)
@@ -216,10 +216,10 @@ def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_f
         text = r.message.decode("utf-8")
     except UnicodeDecodeError:
         text = None
-    d = {"input": inp, "found": True, "message_bytes": len(r.message), "message": text if out_file is None else None,
+    d = {"input": inp, "detected": True, "message_bytes": len(r.message), "message": text if out_file is None else None,
          "out_file": out_file}
     if as_json:
-        _emit(d, True, "")
+        _emit(d, True, "", aliases={"found": "detected"})
     elif out_file is not None:
         click.echo(f"{inp}: {len(r.message)} bytes written to {out_file}")
     elif text is not None:
