@@ -63,9 +63,9 @@ def add_commands(group: click.Group) -> None:
 
         F = features(inp, feature_set)
         names = feature_names(feature_set)
-        d = {"input": inp, "set": feature_set, "n_features": int(F.size), "features": [float(x) for x in F],
+        d = {"input": inp, "feature_set": feature_set, "n_features": int(F.size), "features": [float(x) for x in F],
              "names": names}
-        _emit(d, as_json, "\n".join(f"{n:32s} {x: .6g}" for n, x in zip(names, F)))
+        _emit(d, as_json, "\n".join(f"{n:32s} {x: .6g}" for n, x in zip(names, F)), aliases={"set": "feature_set"})
 
     @group.command("train")
     @click.argument("covers", nargs=-1, required=True)
@@ -115,7 +115,7 @@ def add_commands(group: click.Group) -> None:
             if domain_rate > 0 and len(c) >= 2:
                 model.training["domain"] = model.set_domain(X[c], ds["cover"][c], rate=domain_rate, group_kind="one cover file")
         model.save(out, overwrite=force)
-        d = {"model": out, "feature_set": feature_set, "classifier": classifier, **{k: v for k, v in training.items()
+        d = {"output": out, "model": out, "feature_set": feature_set, "classifier": classifier, **{k: v for k, v in training.items()
                                                                                   if k != "covers"}}
         _emit(d, as_json, f"wrote {out}: {classifier} on {feature_set}, {d['n_covers']} covers, {d['n_stego']} stego "
                           f"({', '.join(d['methods'])})")

@@ -74,7 +74,9 @@ def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run,
     S = engine.run(spec, out, workers=workers, dask=dask, progress=progress, retries=retries,
                    ship_meshes=ship_meshes, chunk_size=chunk_size)
     if as_json:
-        d = jsonout.result({"input": spec, "output": out, "dry_run": False, **S.to_dict()})
+        summary = S.to_dict()
+        summary["tasks_ok"] = summary.pop("ok")  # "ok" is the command's own flag under --json (docs/json.md)
+        d = jsonout.result({"input": spec, "output": out, "dry_run": False, **summary})
         if S.failed:  # exit 3: the failure object, with the summary
             d.update(jsonout.error_object(3, "tasks_failed", f"{S.failed} of {S.planned} tasks failed"))
         click.echo(jsonout.dumps(d, indent=1))
