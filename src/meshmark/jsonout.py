@@ -1,4 +1,4 @@
-"""The one JSON writer of every ``--json`` output (docs/development.md, "JSON output").
+"""The one JSON writer of every ``--json`` output (docs/json.md).
 
 JSON has no Infinity or NaN, so :func:`dumps` never writes them: a non-finite number becomes
 ``null`` and the dict field that held it (directly or anywhere inside a list or nested value) gets a
