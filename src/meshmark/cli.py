@@ -365,7 +365,7 @@ def capacity(inp, method, as_json, params_mode, **method_params):
                       f"parameters ({thesis_cap} carrier bits)")
 
 
-# --- attack (meshmark/cli_attack.py) / compare ---------------------------------------------------------
+# --- attack (meshmark/attacks/cli.py) / compare ---------------------------------------------------------
 
 def _format_compare(a, b, d):
     f = lambda x, spec=".6g": "-" if x is None else format(x, spec)
@@ -417,9 +417,9 @@ from .stego.cli import stego as _stego_cli; main.add_command(_stego_cli)  # noqa
 from .analysis.cli import analyze; main.add_command(analyze)  # noqa: E402,E702  (thesis ch. 3-5)
 from .steganalysis.cli import add_commands as _steganalysis_commands; _steganalysis_commands(steganalysis)  # noqa: E402,E702
 main.add_command(__import__("meshmark.study.cli", fromlist=["study"]).study)
-[main.add_command(_c) for _c in __import__("meshmark.cli_tracing", fromlist=["COMMANDS"]).COMMANDS]  # issue, trace
+[main.add_command(_c) for _c in __import__("meshmark.watermark.cli", fromlist=["COMMANDS"]).COMMANDS]  # issue, trace
 
-main.add_command(__import__("meshmark.cli_attack", fromlist=["attack"]).attack)  # attack
+main.add_command(__import__("meshmark.attacks.cli", fromlist=["attack"]).attack)  # attack
 
 if __name__ == "__main__":  # pragma: no cover
     main()

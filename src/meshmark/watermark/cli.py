@@ -8,8 +8,8 @@ import sys
 
 import click
 
-from . import jsonout
-from ._core import MeshError
+from .. import jsonout
+from .._core import MeshError
 
 
 MAX_IDS_BYTES = 64 << 20
@@ -18,7 +18,7 @@ MAX_IDS_BYTES = 64 << 20
 def _read_ids(path: str) -> list:
     """The ids of an --ids CSV file (first column; '#' comments and an 'id' header skipped), each
     checked (usable in a file name) with its line named."""
-    from .watermark.registry import MAX_COPIES, check_copy_id, shown
+    from .registry import MAX_COPIES, check_copy_id, shown
 
     try:
         with open(path, "rb") as f:
@@ -63,8 +63,8 @@ class _CopyFiles:
                 raise MeshError(f"{self.path(clash[0])} exists; pass --force to overwrite (nothing was recorded)")
 
     def write(self, cid, V):
-        from .atomic import temp_path
-        from .io import mesh_outputs
+        from ..atomic import temp_path
+        from ..io import mesh_outputs
 
         files = []
         try:
@@ -99,8 +99,8 @@ class _CopyFiles:
 def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, force, as_json):
     """Write marked copies of IN into OUTDIR (IN's format), each with its own codeword, and record
     them in the registry."""
-    from .io import read_mesh
-    from .watermark import tracing
+    from ..io import read_mesh
+    from . import tracing
 
     if (copies is None) == (ids_csv is None):
         raise MeshError("give exactly one of --copies N or --ids ids.csv")
@@ -139,8 +139,8 @@ def trace(suspect, registry, key, original, as_json):
 
     Exit status: 0 a copy named, 1 none, 2 error.
     """
-    from . import read_mesh
-    from .watermark import tracing
+    from .. import read_mesh
+    from . import tracing
 
     r = tracing.trace(read_mesh(suspect), registry=registry, key=key, original=original)
     d = {"input": suspect, **r}

@@ -1,12 +1,13 @@
-"""``meshmark attack``: one attack (``--type``) or a chain (``--chain``) of meshmark.attacks."""
+"""``meshmark attack``: one attack (``--type``) or a chain (``--chain``) of meshmark.attacks (registered by
+one line in meshmark.cli)."""
 from __future__ import annotations
 
 import math
 
 import click
 
-from . import jsonout
-from ._core import MeshError
+from .. import jsonout
+from .._core import MeshError
 
 
 # CLI option -> keyword of the attack functions (meshmark.attacks); an option given to an attack that
@@ -49,7 +50,7 @@ _PER_TYPE_INT = {("remesh", "iterations"): (1, 100)}
 
 def check_options(name, opts: dict) -> None:
     """ParameterError (exit 2, the option named) for a numeric option outside its range."""
-    from .ranges import check_float, check_int
+    from ..ranges import check_float, check_int
     for k, v in opts.items():
         if v is None:
             continue
@@ -115,10 +116,10 @@ def attack(mesh_in, mesh_out, name, chain_text, force, as_json, **opts):
       meshmark attack in.obj out.ply --chain "bend:30,simplify:0.5,noise:0.001,similarity,reorder,roundtrip:obj" --seed 2
     """
     import numpy as np
-    from .atomic import check_output, write_all
-    from .io import mesh_outputs, read_mesh
-    from .attacks import ATTACKS, attack as run_attack, chain as run_chain, parameters, parse_chain
-    from .metrics import compare
+    from ..atomic import check_output, write_all
+    from ..io import mesh_outputs, read_mesh
+    from . import ATTACKS, attack as run_attack, chain as run_chain, parameters, parse_chain
+    from ..metrics import compare
 
     if (name is None) == (chain_text is None):
         raise MeshError("give exactly one of --type NAME or --chain STEPS")
