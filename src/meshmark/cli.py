@@ -59,7 +59,9 @@ class _Group(click.Group):
     """Exit status for every command, so new commands inherit it: MeshError (bad input, parameter
     out of range) -> a one-line message and status 2; click usage errors -> 2 (click's own); any other
     exception is a bug -> a short message and status 3, with the traceback only under ``--debug`` (or
-    MESHMARK_DEBUG=1). Commands that detect exit 0 (detected) or 1 (not detected) themselves."""
+    MESHMARK_DEBUG=1). Under ``--json`` each failure also prints ``{"ok": false, "error": {...}}`` on
+    stdout (jsonout.error_object, docs/json.md). Commands that detect exit 0 (detected) or 1 (not
+    detected) themselves."""
 
     def invoke(self, ctx):
         debug = bool(ctx.params.get("debug")) or os.environ.get("MESHMARK_DEBUG") == "1"
@@ -118,6 +120,8 @@ def main(debug):
       2  usage or input error: bad option, unreadable mesh or keyfile, a parameter out of
          its range (the option is named), a keyfile that fails its check
       3  internal error (a bug): a one-line message; --debug shows the traceback
+    With --json, stdout holds one JSON object: "ok": true and the result, or on
+    status 2 or 3 {"ok": false, "error": {"code", "kind", "message"}} (docs/json.md).
     """
 
 
