@@ -93,7 +93,10 @@ class _Group(click.Group):
 
 
 def _json_wanted(ctx) -> bool:
-    """``--json`` among the command's options (before a ``--``)."""
+    """The command's ``--json`` (jsonout.option records it as the options are processed); when the
+    command line failed before that, ``--json`` among its words (before a ``--``)."""
+    if "meshmark.json" in ctx.meta:
+        return ctx.meta["meshmark.json"]
     args = [str(a) for a in ctx.meta.get("meshmark.args", ())]
     return "--json" in (args[:args.index("--")] if "--" in args else args)
 
@@ -127,7 +130,7 @@ def main(debug):
 
 @main.command()
 @click.argument("mesh", required=False)
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def info(mesh, as_json):
     """Counts, boundary, components, manifoldness, bounding box and mean edge length of MESH.
 
@@ -245,7 +248,7 @@ def _progress_bar(as_json: bool):
                    "with yours (the mark survives overmarking more often; docs/security.md).")
 @click.option("--store-key/--no-store-key", "store_key", default=True, show_default=True,
               help="Keep the key in the keyfile; with --no-store-key, extract needs --key (or asks for it).")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_bins, as_json, params_mode,
           **method_params):
     """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile.
@@ -295,7 +298,7 @@ def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_b
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Keyfile written by embed.")
 @click.option("--key", default=None, help="Use this key instead of the keyfile's; needed when the keyfile holds "
                                           "no key (asked for on a terminal).")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def extract(inp, keyfile, key, as_json):
     """Extract and detect the watermark of --keyfile in IN (blind: the original is not needed).
 
@@ -331,7 +334,7 @@ def extract(inp, keyfile, key, as_json):
 @main.command()
 @click.argument("inp", metavar="IN")
 @_method_options
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def capacity(inp, method, as_json, params_mode, **method_params):
     """How many carrier bits IN offers to a method and the longest message that fits, with the
     parameters of --params (auto, the default, as in the Python API's capacity(); or thesis), and the
@@ -392,7 +395,7 @@ def _format_compare(a, b, d):
 @click.argument("mesh_b", metavar="B")
 @click.option("--samples", type=int, default=None, help="Area samples per direction, 0..10,000,000 (default 2 x triangles), plus the vertices.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Sampling seed, 0..2^63-1.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def compare(mesh_a, mesh_b, samples, seed, as_json):
     """Distortion of B relative to the reference A: vertex RMSE, Hausdorff and RMS surface distance
     (absolute and relative to A's bounding-box diagonal), normal degradation (eq. 3.2.2) in degrees."""

@@ -72,6 +72,15 @@ def dumps(obj, indent: int | None = 2) -> str:
     return json.dumps(sanitize(obj), indent=indent, allow_nan=False, default=str)
 
 
+def option(help: str = "Print the result as JSON."):
+    """The ``--json`` flag of a command (parameter ``as_json``). Eager, so that the error handler of
+    meshmark.cli knows the mode even when a later option fails to convert."""
+    def remember(ctx, param, value):
+        ctx.meta["meshmark.json"] = bool(value)
+        return value
+    return click.option("--json", "as_json", is_flag=True, is_eager=True, callback=remember, help=help)
+
+
 def safe(text) -> str:
     """``text`` printable as UTF-8: bytes from argv that are not UTF-8 (surrogate escapes) are shown
     as \\xNN instead of failing to print."""

@@ -50,7 +50,7 @@ def analyze():
 @click.option("--tolerance", default="1,5,10", show_default=True, help="Tolerances in degrees (comma-separated).")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random low bits.")
 @click.option("--repeats", type=int, default=1, show_default=True, help="Dithered samples per level (averaged), 1..1000.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def degradation(inp, tolerance, seed, repeats, as_json):
     """Ch. 3: fit D(t) = C / (1 + e^(-a - b t)) (eq. 3.2.1) to dis(M, M^t) at t = 12, 16, 20, 24, 28
     bits of the IEEE-754 double kept, per weighting, and the level t per tolerance (eq. 3.2.6)."""
@@ -79,7 +79,7 @@ def degradation(inp, tolerance, seed, repeats, as_json):
               help="Only this estimate of E_mesh (default: all four).")
 @click.option("--adaptive", is_flag=True, help="Also the curvature-adaptive per-vertex levels (eqs. 4.3.23-4.3.25).")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the dither that measures psi.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def quantization(inp, tolerance, bound, adaptive, seed, as_json):
     """Ch. 4: the dithered-quantization level i (32-bit fixed point in the bounding cube) per bound
     (eqs. 4.3.19-4.3.21) and the measured psi^i in degrees after dithering at that level (eq. 4.3.22)."""
@@ -115,7 +115,7 @@ def quantization(inp, tolerance, bound, adaptive, seed, as_json):
 @click.option("--bound", type=click.Choice(["min", "appr", "max", "exact"]), default="appr", show_default=True)
 @click.option("--adaptive", is_flag=True, help="Per-vertex curvature-adaptive levels (eqs. 4.3.23-4.3.25).")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random low bits.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def quantize(inp, out, tolerance, bound, adaptive, seed, as_json):
     """Ch. 4: write OUT, the dithered IN (keep the level's most significant bits of the 32-bit
     fixed-point coordinates, random low bits)."""
@@ -146,7 +146,7 @@ def quantize(inp, out, tolerance, bound, adaptive, seed, as_json):
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the displacements.")
 @click.option("--repeats", type=int, default=1, show_default=True, help="Draws per level (averaged), 1..1000.")
 @click.option("--t-min", type=int, default=12, show_default=True, help="Smallest level of the linear fit, 1..19.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def curvature(inp, seed, repeats, t_min, as_json):
     """Ch. 5: mean change of the discrete Gaussian curvature (eq. 5.1.1) of the interior vertices under
     displacements of mean strength 2^-t L (t = 1..20, L the bounding cube) along the vertex normal, a

@@ -100,7 +100,7 @@ def check_options(name, opts: dict) -> None:
 @click.option("--decimals", type=int, help="roundtrip obj: decimals written, 0..17 (default 6).")
 @click.option("--seed", type=int, help="random attacks: seed, 0..2^64-1 (default 0).")
 @click.option("--force", is_flag=True, default=False, help="Overwrite an existing OUT.")
-@click.option("--json", "as_json", is_flag=True, help="Print a summary (with the distortion) as JSON.")
+@jsonout.option("Print a summary (with the distortion) as JSON.")
 def attack(mesh_in, mesh_out, name, chain_text, force, as_json, **opts):
     """Apply an attack (--type) or a chain of attacks (--chain) to IN and write the result to OUT
     (format from the extension, double precision).

@@ -33,7 +33,7 @@ def add_command(group: click.Group) -> None:
     @click.option("--thesis-exact", is_flag=True, help="The thesis' rule with the literal eq. 6.4.17.")
     @click.option("--false-reject", type=float, default=0.01, show_default=True,
                   help="thesis: rate at which the balance test rejects random-message marks, (0, 1).")
-    @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+    @jsonout.option()
     def steganalysis_cho(inp, K_min, K_max, rule, false_alarm, trim, min_count, eps, eps2, thesis_exact,
                          false_reject, as_json):
         """Does IN carry a watermark of Cho et al.'s mean method? (thesis §6.4; docs/radial.md §3)

@@ -56,7 +56,7 @@ def add_commands(group: click.Group) -> None:
     @group.command("features")
     @click.argument("inp", metavar="IN")
     @_set_option
-    @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+    @jsonout.option()
     def features_cmd(inp, feature_set, as_json):
         """The steganalysis feature vector of IN."""
         from .features import feature_names, features
@@ -79,7 +79,7 @@ def add_commands(group: click.Group) -> None:
                   help="Domain check: share of the training covers (each against the others) beyond which a mesh is "
                        "'cannot judge'; 0 = no check.")
     @click.option("--force", is_flag=True, default=False, help="Overwrite an existing --out.")
-    @click.option("--json", "as_json", is_flag=True, help="Print a summary as JSON.")
+    @jsonout.option("Print a summary as JSON.")
     def train_cmd(covers, out, feature_set, classifier, methods, stego, seed, domain_rate, force, as_json):
         """Train a universal and per-method detectors on the cover meshes COVERS (files or folders) and
         their stego versions, and save the model to --out."""
@@ -124,7 +124,7 @@ def add_commands(group: click.Group) -> None:
     @click.argument("inp", metavar="IN")
     @click.option("--model", "model_path", default=None, type=click.Path(dir_okay=False),
                   help="Model file (default: the model shipped with meshmark).")
-    @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+    @jsonout.option()
     def detect_cmd(inp, model_path, as_json):
         """Is IN a stego mesh? The verdict ("marked", "no evidence" or "cannot judge": the mesh lies outside
         the model's training covers or is too small), the universal probability and one per stego method.
@@ -174,7 +174,7 @@ def add_commands(group: click.Group) -> None:
                   help="Drop covers that are the same geometry as another (byte-identical or another format / order).")
     @click.option("--csv", "csv_path", type=click.Path(dir_okay=False), help="Write one row per split and detector.")
     @click.option("--force", is_flag=True, default=False, help="Overwrite an existing --csv file.")
-    @click.option("--json", "as_json", is_flag=True, help="Print the median table as JSON.")
+    @jsonout.option("Print the median table as JSON.")
     def evaluate_cmd(covers, feature_set, classifier, splits, test_fraction, methods, dataset, proto, dedup, csv_path,
                      force, as_json):
         """Thesis chapter 8 protocol on COVERS: random cover-level splits (or, with --protocol sources,

@@ -145,7 +145,7 @@ def stego():
 @click.option("--precision", type=_PRECISION, default="fixed32", show_default=True,
               help="The storage the marked coordinates must survive exactly.")
 @click.option("--force", is_flag=True, default=False, help="Overwrite an existing OUT.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptive, level, precision, force, as_json):
     """Hide a message in IN and write OUT (.ply/.obj/.off), verified by reading OUT back.
     An existing OUT is replaced only with --force."""
@@ -192,7 +192,7 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
 @click.option("--precision", type=_PRECISION, default="fixed32", show_default=True)
 @click.option("--out-file", type=click.Path(dir_okay=False), default=None, help="Write the message bytes here.")
 @click.option("--force", is_flag=True, default=False, help="Overwrite an existing --out-file.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_file, force, as_json):
     """Recover the message hidden in IN. Exit status: 0 found, 1 no message (wrong key, damaged, clean).
     An existing --out-file is replaced only with --force."""
@@ -235,7 +235,7 @@ def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_f
 @_common
 @click.option("--precision", type=click.Choice(["all", "fixed32", "float32", "float64"]), default="all",
               show_default=True)
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def capacity_cmd(inp, tolerance, adaptive, level, precision, as_json):
     """Hiding capacity of IN per storage precision (bits per vertex, longest message)."""
     from ..io import read_mesh

@@ -39,7 +39,7 @@ def _dask_option(value):
 @click.option("--retries", type=int, default=1, show_default=True, help="Times a failed task is run again, 0..100.")
 @click.option("--dry-run", is_flag=True, help="Plan and compute the task keys only; print the counts and timing.")
 @click.option("--progress/--no-progress", default=None, help="Progress bar (default: on a terminal).")
-@click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+@jsonout.option("Print the summary as JSON.")
 def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run, progress, as_json):
     """Run (or resume) the study SPEC (a TOML file); results go under --out."""
     from . import engine
@@ -90,7 +90,7 @@ def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run,
 @study.command("status")
 @click.argument("out")
 @click.option("--spec", default=None, help="The spec, to count what is left to run.")
-@click.option("--json", "as_json", is_flag=True)
+@jsonout.option()
 def status_cmd(out, spec, as_json):
     """Counts of the results under OUT by status and method (and what is left, with --spec)."""
     from . import engine
@@ -113,7 +113,7 @@ def status_cmd(out, spec, as_json):
 @click.argument("results")
 @click.option("--out", "out", default=None, help="Folder for the PNG figures and summary.csv (default RESULTS/plots).")
 @click.option("--force", is_flag=True, default=False, help="Overwrite the figures of an earlier plot in --out.")
-@click.option("--json", "as_json", is_flag=True, help="Print the files written as JSON.")
+@jsonout.option("Print the files written as JSON.")
 def plot_cmd(results, out, force, as_json):
     """Standard figures (CDR vs attack strength per method, detection vs deformation, capacity vs size)
     as PNG and a CSV summary (means per method and attack)."""

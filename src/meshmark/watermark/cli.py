@@ -95,7 +95,7 @@ class _CopyFiles:
               show_default=True)
 @click.option("--params", "params_mode", type=click.Choice(["auto", "thesis"]), default="auto", show_default=True)
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing copy files in OUTDIR.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, force, as_json):
     """Write marked copies of IN into OUTDIR (IN's format), each with its own codeword, and record
     them in the registry."""
@@ -130,7 +130,7 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
 @click.option("--key", default=None, help="The owner's key (if the registry does not store it).")
 @click.option("--original", default=None, type=click.Path(dir_okay=False),
               help="The unmarked original (default: the path recorded by issue, if its digest still matches).")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def trace(suspect, registry, key, original, as_json):
     """Which issued copy is SUSPECT? Names the best copy if its false-alarm probability (corrected for
     every copy in the registry, and for the two tests when the original is used) is below 1e-6, else
