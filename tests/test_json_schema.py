@@ -106,3 +106,15 @@ def test_vocabulary():
             assert "ok" in r["required"] and not old & set(r["required"]), p.name
             for k in old & set(r["properties"]):
                 assert r["properties"][k].get("deprecated") is True, (p.name, k)
+
+
+def test_json_as_an_option_value_is_not_the_flag(tmp_path):
+    """``--message --json`` hides the text "--json": a failure then is plain text on stderr only, and
+    a bad value after a real --json still gets the failure object (the flag is processed first)."""
+    make_inputs(tmp_path)
+    r = CliRunner().invoke(main, ["stego", "embed", str(tmp_path / "in.obj"), str(tmp_path / "x.stl"),
+                                  "--message", "--json", "--key", "s"])
+    assert r.exit_code == 2 and r.stdout == "" and r.stderr.startswith("meshmark: error: STL cannot carry")
+    r = CliRunner().invoke(main, ["steganalysis", "cho", str(tmp_path / "in.obj"), "--json", "--k-max", "abc"])
+    d = _strict(r.stdout)
+    assert r.exit_code == 2 and d["error"]["kind"] == "usage" and "'--k-max'" in d["error"]["message"]
