@@ -172,7 +172,8 @@ def part_trace(out):
             named += r["copy"] is not None
             n += 1
             rows.append({"suspect": f"{p.parent.name}/{p.name}", "named": int(r["copy"] is not None), "wrong": "",
-                         "p_false_alarm": r["p_false_alarm"], "matches": r["matches"], "n_carriers": r["n_carriers"]})
+                         "p_false_alarm": r["p_false_alarm"], "matches": (r["blind"] or {}).get("matches", ""),
+                         "n_carriers": (r["blind"] or {}).get("n_carriers", "")})  # best blind candidate
         print(f"issued copies traced right: {right}/{k}; unmarked meshes traced to a copy: {named} of {n}", flush=True)
     write_csv(rows, os.path.join(out, "trace.csv"))
 

@@ -137,7 +137,9 @@ def test_cli_reports_errors_without_traceback(tmp_path):
     r = subprocess.run([sys.executable, "-m", "meshmark.cli", "info", str(p), "--json"], capture_output=True, text=True)
     assert r.returncode == 2
     assert r.stderr.startswith("meshmark: error: cannot read") and "Traceback" not in r.stderr
-    assert r.stdout == ""
+    d = json.loads(r.stdout)  # the failure object (docs/json.md), the same message as on stderr
+    assert d["ok"] is False and d["error"]["code"] == 2 and d["error"]["kind"] == "input"
+    assert r.stderr == f"meshmark: error: {d['error']['message']}\n"
 
 
 def test_cli_default_mesh_json():

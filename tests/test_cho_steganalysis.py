@@ -193,13 +193,13 @@ def test_cli(tmp_path, bunny):
     run = lambda *a: subprocess.run([sys.executable, "-m", "meshmark.cli", *a], capture_output=True, text=True)
     x = run("steganalysis", "cho", out, "--json")
     d = json.loads(x.stdout)
-    assert x.returncode == 0 and d["rule"] == "margin" and d["k_estimate"] == 64 and d["marked"] is True
+    assert x.returncode == 0 and d["rule"] == "margin" and d["k_estimate"] == 64 and d["detected"] is True
     assert d["p_value"] < 1e-8 and d["margin_above"] == 32 and "bhattacharyya" not in d  # no EM fits
     x = run("steganalysis", "cho", out, "--json", "--rule", "thesis")
     d = json.loads(x.stdout)
-    assert x.returncode == 0 and d["k_thesis"] == 64 and d["marked"] is True and d["bhattacharyya"] > 10
+    assert x.returncode == 0 and d["k_thesis"] == 64 and d["detected"] is True and d["bhattacharyya"] > 10
     x = run("steganalysis", "cho", str(shared_mesh("classic/bunny.obj")), "--json")
-    assert x.returncode == 1 and json.loads(x.stdout)["marked"] is False
+    assert x.returncode == 1 and json.loads(x.stdout)["detected"] is False
 
 
 def test_cli_ranges_are_checked_before_work(tmp_path):

@@ -144,7 +144,7 @@ def test_cli_features_and_bad_input(tmp_path):
     assert x.returncode == 2 and "too small" in x.stderr
     x = run("detect", str(tiny), "--json")  # a verdict, not an error: the detector cannot judge it
     d = json.loads(x.stdout)
-    assert x.returncode == 1 and d["verdict"] == "cannot judge" and "too small" in d["reason"] and not d["marked"]
+    assert x.returncode == 1 and d["verdict"] == "cannot judge" and "too small" in d["reason"] and d["detected"] is False
     # issue 23: a bad --out fails before any training (checked first in train_cmd: no "[1/1]" feature work)
     x = run("train", str(shared_mesh("classic/cow.obj")), "--out", str(tmp_path / "nope" / "m.npz"))
     assert x.returncode == 2 and "does not exist" in x.stderr
@@ -174,7 +174,7 @@ def test_cli_train_detect_evaluate(tmp_path):
     x = run("detect", str(covers / "vhacd_pig.off"), "--model", str(model), "--json")
     d = json.loads(x.stdout)
     # a clean training cover: not marked, exit 1
-    assert (x.returncode, d["marked"], set(d["methods"])) == (1, False, {"cho-variance", "radial"}), x.stderr
+    assert (x.returncode, d["detected"], set(d["methods"])) == (1, False, {"cho-variance", "radial"}), x.stderr
     # the same cover Cho-variance marked (alpha 0.16): marked, exit 0
     import meshmark
     from meshmark.watermark import cho
@@ -182,7 +182,7 @@ def test_cli_train_detect_evaluate(tmp_path):
     meshmark.write_mesh(tmp_path / "pig_marked.off", cho.embed(pig, payload="x", key="k", method="variance").V, pig)
     x = run("detect", str(tmp_path / "pig_marked.off"), "--model", str(model), "--json")
     d = json.loads(x.stdout)
-    assert (x.returncode, d["marked"]) == (0, True), x.stdout
+    assert (x.returncode, d["detected"]) == (0, True), x.stdout
     x = run("evaluate", str(covers), "--set", "lfs76", "--methods", "cho-variance", "--splits", "2",
             "--dataset", str(tmp_path / "ds.npz"), "--csv", str(tmp_path / "rows.csv"), "--json")
     d = json.loads(x.stdout)
@@ -200,5 +200,5 @@ def test_cli_train_detect_evaluate(tmp_path):
     d = json.loads(x.stdout)
     # a clean cover: probability ~0.71 against the threshold 0.990, in the model's domain -> exit 1
     assert x.returncode == 1 and "cho-mean" in d["methods"] and d["feature_set"] == "yang208+lfs76s+nvt36s"
-    assert (d["verdict"], d["marked"], d["in_domain"]) == ("no evidence", False, True)
+    assert (d["verdict"], d["detected"], d["in_domain"]) == ("no evidence", False, True)
     assert d["probability"] < d["threshold"] - 0.1

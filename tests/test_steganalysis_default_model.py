@@ -88,9 +88,9 @@ def test_cli_detect_reports_the_operating_point(tmp_path):
     x = subprocess.run([sys.executable, "-m", "meshmark.cli", "steganalysis", "detect", str(p), "--json"],
                        capture_output=True, text=True)
     d = json.loads(x.stdout)
-    assert x.returncode == (0 if d["marked"] else 1), x.stderr
-    assert {"marked", "methods", "threshold", "operating_point"} <= set(d) and "in_distribution" not in d
+    assert x.returncode == (0 if d["detected"] else 1), x.stderr
+    assert {"detected", "methods", "threshold", "operating_point"} <= set(d) and "in_distribution" not in d
     assert d["operating_point"]["cv_fpr"] <= 0.05 and d["threshold"] == Model.load().threshold
     assert len(d["methods"]) == 11 and all(0 <= v <= 1 for v in d["methods"].values())
     r = Model.load().detect_features(features(m, Model.load().feature_set))
-    assert d["marked"] == r["marked"] and d["probability"] == r["probability"]
+    assert d["detected"] == r["marked"] and d["probability"] == r["probability"]

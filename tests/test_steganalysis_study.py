@@ -41,7 +41,7 @@ def test_study_run_writes_every_table_and_figure(tmp_path):
     r = CliRunner().invoke(main, ["study", "run", str(spec), "--out", str(out), "--json"])
     assert r.exit_code == 0, r.output
     S = json.loads(r.output[r.output.index("{\n"):])
-    assert S["planned"] == 2 and S["ok"] == 2
+    assert S["ok"] is True and S["planned"] == 2 and S["tasks_ok"] == 2
     for f in ("dataset.npz", "protocol_splits.csv", "protocol_median.csv", "protocol_ranking.csv", "protocol_pca.csv",
               "protocol_pca.png", "protocol_accuracy.png", "protocol_holdout.csv", "cho_table.csv", "cho_table_summary.csv", "cho_table.png",
               "tables.md"):

@@ -14,18 +14,8 @@ from ._core import MeshError
 EXIT_DETECTED, EXIT_NOT_DETECTED, EXIT_INPUT_ERROR, EXIT_INTERNAL_ERROR = 0, 1, 2, 3
 
 
-def _safe(text) -> str:
-    """``text`` printable as UTF-8: bytes from argv that are not UTF-8 (surrogate escapes) are shown
-    as \\xNN instead of failing to print."""
-    text = str(text)
-    try:
-        return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
-    except UnicodeEncodeError:
-        return text.encode("utf-8", "backslashreplace").decode("utf-8")
-
-
-def _emit(result: dict, as_json: bool, text: str) -> None:
-    click.echo(jsonout.dumps(result) if as_json else _safe(text))
+_safe = jsonout.safe
+_emit = jsonout.emit
 
 
 def _format_info(path: str, d: dict) -> str:
@@ -69,7 +59,9 @@ class _Group(click.Group):
     """Exit status for every command, so new commands inherit it: MeshError (bad input, parameter
     out of range) -> a one-line message and status 2; click usage errors -> 2 (click's own); any other
     exception is a bug -> a short message and status 3, with the traceback only under ``--debug`` (or
-    MESHMARK_DEBUG=1). Commands that detect exit 0 (detected) or 1 (not detected) themselves."""
+    MESHMARK_DEBUG=1). Under ``--json`` each failure also prints ``{"ok": false, "error": {...}}`` on
+    stdout (jsonout.error_object, docs/json.md). Commands that detect exit 0 (detected) or 1 (not
+    detected) themselves."""
 
     def invoke(self, ctx):
         debug = bool(ctx.params.get("debug")) or os.environ.get("MESHMARK_DEBUG") == "1"
@@ -82,21 +74,40 @@ class _Group(click.Group):
                 traceback.print_exc()
             param = getattr(exc, "param", None)
             where = f"{_option_name(ctx, param)}: " if param else ""
-            click.echo(f"meshmark: error: {where}{_safe(exc)}", err=True)
-            sys.exit(EXIT_INPUT_ERROR)
-        except (click.exceptions.ClickException, click.exceptions.Exit, click.exceptions.Abort):
+            _fail(ctx, EXIT_INPUT_ERROR, "input", f"{where}{_safe(exc)}", "error")
+        except click.exceptions.ClickException as exc:  # usage errors: click prints them and exits 2
+            if _json_wanted(ctx):
+                click.echo(jsonout.dumps(jsonout.error_object(exc.exit_code, "usage", exc.format_message())))
+            raise
+        except (click.exceptions.Exit, click.exceptions.Abort):
             raise
         except KeyboardInterrupt:  # Ctrl-C: the shell's status 130, never 1 ("not detected")
-            click.echo("meshmark: interrupted", err=True)
-            sys.exit(128 + 2)
+            _fail(ctx, 128 + 2, "interrupted", "interrupted", None)
         except Exception as exc:  # a bug: never a bare traceback, never status 1 ("not detected")
             if debug:
                 traceback.print_exc()
             msg = _safe(exc)
             msg = msg if len(msg) <= 300 else msg[:300] + "..."
-            click.echo(f"meshmark: internal error: {type(exc).__name__}: {msg} (this is a bug; "
-                       "'meshmark --debug ...' shows the traceback)", err=True)
-            sys.exit(EXIT_INTERNAL_ERROR)
+            _fail(ctx, EXIT_INTERNAL_ERROR, "internal", f"{type(exc).__name__}: {msg} (this is a bug; "
+                  "'meshmark --debug ...' shows the traceback)", "internal error")
+
+
+def _json_wanted(ctx) -> bool:
+    """The command's ``--json`` (jsonout.option records it as the options are processed); when the
+    command line failed before that, ``--json`` among its words (before a ``--``)."""
+    if "meshmark.json" in ctx.meta:
+        return ctx.meta["meshmark.json"]
+    args = [str(a) for a in ctx.meta.get("meshmark.args", ())]
+    return "--json" in (args[:args.index("--")] if "--" in args else args)
+
+
+def _fail(ctx, code: int, kind: str, message: str, label) -> None:
+    """The one failure path of every command: a line on stderr, under ``--json`` also the error
+    object on stdout (jsonout.error_object), then exit ``code``."""
+    click.echo(f"meshmark: {label}: {message}" if label else f"meshmark: {message}", err=True)
+    if _json_wanted(ctx):
+        click.echo(jsonout.dumps(jsonout.error_object(code, kind, message)))
+    sys.exit(code)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
@@ -112,12 +123,14 @@ def main(debug):
       2  usage or input error: bad option, unreadable mesh or keyfile, a parameter out of
          its range (the option is named), a keyfile that fails its check
       3  internal error (a bug): a one-line message; --debug shows the traceback
+    With --json, stdout holds one JSON object: "ok": true and the result, or on
+    status 2 or 3 {"ok": false, "error": {"code", "kind", "message"}} (docs/json.md).
     """
 
 
 @main.command()
 @click.argument("mesh", required=False)
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def info(mesh, as_json):
     """Counts, boundary, components, manifoldness, bounding box and mean edge length of MESH.
 
@@ -136,8 +149,8 @@ def info(mesh, as_json):
     # Counts are of the file's records (as SOURCES.md lists them): faces dropped on reading
     # (collapsed, repeating a vertex) count in n_faces and are reported as n_dropped_faces.
     d["n_faces"] = fmt["n_file_faces"]
-    d = {"path": path, **fmt, **d}
-    _emit(d, as_json, _format_info(path, d))
+    d = {"input": path, **fmt, **d}
+    _emit(d, as_json, _format_info(path, d), aliases={"path": "input"})
 
 
 # --- watermarking ---------------------------------------------------------------------------
@@ -236,7 +249,7 @@ def _progress_bar(as_json: bool):
                    "by someone else (overmarking; docs/security.md).")
 @click.option("--store-key/--no-store-key", "store_key", default=True, show_default=True,
               help="Keep the key in the keyfile; with --no-store-key, extract needs --key (or asks for it).")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_bins, as_json, params_mode,
           **method_params):
     """Embed a watermark into IN and write the marked mesh to OUT and the keyfile to --keyfile.
@@ -286,7 +299,7 @@ def embed(inp, out, method, message, bits, key, keyfile, force, store_key, key_b
 @click.option("--keyfile", required=True, type=click.Path(dir_okay=False), help="Keyfile written by embed.")
 @click.option("--key", default=None, help="Use this key instead of the keyfile's; needed when the keyfile holds "
                                           "no key (asked for on a terminal).")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def extract(inp, keyfile, key, as_json):
     """Extract and detect the watermark of --keyfile in IN (blind: the original is not needed).
 
@@ -309,12 +322,13 @@ def extract(inp, keyfile, key, as_json):
     mesh = read_mesh(inp)
     res = wm_extract(mesh, keyfile=kf, key=key)
     d = {"input": inp, **res.to_dict()}
+    d = {("n_carriers" if k == "bits" else k): v for k, v in d.items()}  # the coded bits read, one per carrier
     lines = [f"watermark {'DETECTED' if res.detected else 'not detected'} in {inp}",
              f"bits matched {res.matches}/{res.n_bits}  NC {res.nc:.3f}  CDR {res.cdr:.3f}  "
              f"P(false alarm) {res.p_false_alarm:.3g}",
              f"message: {res.message!r}" if res.message_ok else f"message not recovered ({res.reason})"]
     lines += [f"warning: {w}" for w in res.warnings]
-    _emit(d, as_json, "\n".join(lines))
+    _emit(d, as_json, "\n".join(lines), aliases={"bits": "n_carriers"})
     sys.exit(EXIT_DETECTED if res.detected else EXIT_NOT_DETECTED)
 
 
@@ -324,7 +338,7 @@ def extract(inp, keyfile, key, as_json):
 @click.option("--key-bins", "key_bins", is_flag=True, default=False,
               help="The bins embed --key-bins uses with --key (the capacity then depends on the key).")
 @click.option("--key", default=None, help="The key, with --key-bins.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def capacity(inp, method, key_bins, key, as_json, params_mode, **method_params):
     """How many carrier bits IN offers to a method and the longest message that fits, with the
     parameters of --params (auto, the default, as in the Python API's capacity(); or thesis), and the
@@ -365,7 +379,7 @@ def capacity(inp, method, key_bins, key, as_json, params_mode, **method_params):
                       f"parameters ({thesis_cap} carrier bits)")
 
 
-# --- attack (meshmark/cli_attack.py) / compare ---------------------------------------------------------
+# --- attack (meshmark/attacks/cli.py) / compare ---------------------------------------------------------
 
 def _format_compare(a, b, d):
     f = lambda x, spec=".6g": "-" if x is None else format(x, spec)
@@ -388,7 +402,7 @@ def _format_compare(a, b, d):
 @click.argument("mesh_b", metavar="B")
 @click.option("--samples", type=int, default=None, help="Area samples per direction, 0..10,000,000 (default 2 x triangles), plus the vertices.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Sampling seed, 0..2^63-1.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def compare(mesh_a, mesh_b, samples, seed, as_json):
     """Distortion of B relative to the reference A: vertex RMSE, Hausdorff and RMS surface distance
     (absolute and relative to A's bounding-box diagonal), normal degradation (eq. 3.2.2) in degrees."""
@@ -400,8 +414,8 @@ def compare(mesh_a, mesh_b, samples, seed, as_json):
         check_int("samples", samples, 0, 10_000_000)
     check_seed(seed)
     d = run_compare(read_mesh(mesh_a), read_mesh(mesh_b), n_samples=samples, seed=seed)
-    d = {"a": mesh_a, "b": mesh_b, **d}
-    _emit(d, as_json, _format_compare(mesh_a, mesh_b, d))
+    d = {"reference": mesh_a, "input": mesh_b, **d}
+    _emit(d, as_json, _format_compare(mesh_a, mesh_b, d), aliases={"a": "reference", "b": "input"})
 
 
 # --- steganalysis ---------------------------------------------------------------------------
@@ -417,9 +431,9 @@ from .stego.cli import stego as _stego_cli; main.add_command(_stego_cli)  # noqa
 from .analysis.cli import analyze; main.add_command(analyze)  # noqa: E402,E702  (thesis ch. 3-5)
 from .steganalysis.cli import add_commands as _steganalysis_commands; _steganalysis_commands(steganalysis)  # noqa: E402,E702
 main.add_command(__import__("meshmark.study.cli", fromlist=["study"]).study)
-[main.add_command(_c) for _c in __import__("meshmark.cli_tracing", fromlist=["COMMANDS"]).COMMANDS]  # issue, trace
+[main.add_command(_c) for _c in __import__("meshmark.watermark.cli", fromlist=["COMMANDS"]).COMMANDS]  # issue, trace
 
-main.add_command(__import__("meshmark.cli_attack", fromlist=["attack"]).attack)  # attack
+main.add_command(__import__("meshmark.attacks.cli", fromlist=["attack"]).attack)  # attack
 
 if __name__ == "__main__":  # pragma: no cover
     main()

@@ -9,8 +9,7 @@ from .. import jsonout
 from .._core import MeshError
 
 
-def _emit(result: dict, as_json: bool, text: str) -> None:
-    click.echo(jsonout.dumps(result) if as_json else text)
+_emit = jsonout.emit
 
 
 def _tolerances(text: str) -> list[float]:
@@ -51,7 +50,7 @@ def analyze():
 @click.option("--tolerance", default="1,5,10", show_default=True, help="Tolerances in degrees (comma-separated).")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random low bits.")
 @click.option("--repeats", type=int, default=1, show_default=True, help="Dithered samples per level (averaged), 1..1000.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def degradation(inp, tolerance, seed, repeats, as_json):
     """Normal degradation against the mantissa bits kept.
 
@@ -62,7 +61,7 @@ def degradation(inp, tolerance, seed, repeats, as_json):
     _check(seed=seed, repeats=repeats)
     tols = _tolerances(tolerance)
     r = degradation_model(read_mesh(inp), tols, seed=seed, repeats=repeats)
-    d = {"input": inp, "seed": seed, "levels_fitted": r["levels_fitted"], "tolerances": tols}
+    d = {"input": inp, "seed": seed, "levels_fitted": r["levels_fitted"], "tolerances_deg": tols}
     for w in WEIGHTINGS:
         f = r[w]
         d[w] = {"a": f["a"], "b": f["b"], "C": f["C"], "t": {_key(k): v for k, v in f["t"].items()},
@@ -72,7 +71,7 @@ def degradation(inp, tolerance, seed, repeats, as_json):
         f = d[w]
         lv = ", ".join(f"{k} deg: t = {v}" for k, v in f["t"].items())
         lines.append(f"  {w:<8}  a = {f['a']:8.3f}  b = {f['b']:7.3f}  C = {f['C']:.4f}   {lv}")
-    _emit(d, as_json, "\n".join(lines))
+    _emit(d, as_json, "\n".join(lines), aliases={"tolerances": "tolerances_deg"})
 
 
 @analyze.command()
@@ -82,7 +81,7 @@ def degradation(inp, tolerance, seed, repeats, as_json):
               help="Only this estimate of E_mesh (default: all four).")
 @click.option("--adaptive", is_flag=True, help="Also the curvature-adaptive per-vertex levels (eqs. 4.3.23-4.3.25).")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the dither that measures psi.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def quantization(inp, tolerance, bound, adaptive, seed, as_json):
     """Quantization level per normal-degradation bound.
 
@@ -95,7 +94,7 @@ def quantization(inp, tolerance, bound, adaptive, seed, as_json):
     mesh = read_mesh(inp)
     bounds = (bound,) if bound else BOUNDS
     t = quantization_table(mesh, (tolerance,), bounds, adaptive=adaptive, seed=seed)
-    d = {"input": inp, "tolerance": tolerance, "seed": seed, "n_triangles": t["n_triangles"], "cube": t["cube"],
+    d = {"input": inp, "tolerance_deg": tolerance, "seed": seed, "n_triangles": t["n_triangles"], "cube": t["cube"],
          "bounds": {}}
     for b in bounds:
         det = t["details"][b][tolerance]
@@ -110,7 +109,7 @@ def quantization(inp, tolerance, bound, adaptive, seed, as_json):
         d["adaptive"] = a
         lines.append(f"  adaptive  levels {a['min']}..{a['max']} (mean {a['mean_level']:.2f})  psi = {a['psi']:.4g} deg  "
                      f"bits kept {a['total_bits']} vs {a['global_total_bits']} at the global level {a['global_level']}")
-    _emit(d, as_json, "\n".join(lines))
+    _emit(d, as_json, "\n".join(lines), aliases={"tolerance": "tolerance_deg"})
 
 
 @analyze.command()
@@ -120,7 +119,7 @@ def quantization(inp, tolerance, bound, adaptive, seed, as_json):
 @click.option("--bound", type=click.Choice(["min", "appr", "max", "exact"]), default="appr", show_default=True)
 @click.option("--adaptive", is_flag=True, help="Per-vertex curvature-adaptive levels (eqs. 4.3.23-4.3.25).")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random low bits.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def quantize(inp, out, tolerance, bound, adaptive, seed, as_json):
     """Write OUT: IN quantized at the level of a bound.
 
@@ -139,12 +138,13 @@ def quantize(inp, out, tolerance, bound, adaptive, seed, as_json):
     write_mesh(out, q)
     used = mesh.referenced().astype(bool)
     lv = np.asarray(levels)
-    d = {"input": inp, "output": out, "tolerance": tolerance, "adaptive": adaptive, "bound": None if adaptive else bound,
+    d = {"input": inp, "output": out, "tolerance_deg": tolerance, "adaptive": adaptive, "bound": None if adaptive else bound,
          "levels": {"min": int(lv[used].min()), "max": int(lv[used].max()), "mean": float(lv[used].mean())} if adaptive
          else int(levels), "psi": psi, "seed": seed}
     what = (f"levels {d['levels']['min']}..{d['levels']['max']} (mean {d['levels']['mean']:.2f})" if adaptive
             else f"level i = {levels} ({bound})")
-    _emit(d, as_json, f"{out}: dithered at {what}; mean normal change psi = {psi:.4g} deg")
+    _emit(d, as_json, f"{out}: dithered at {what}; mean normal change psi = {psi:.4g} deg",
+          aliases={"tolerance": "tolerance_deg"})
 
 
 @analyze.command()
@@ -152,7 +152,7 @@ def quantize(inp, out, tolerance, bound, adaptive, seed, as_json):
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the displacements.")
 @click.option("--repeats", type=int, default=1, show_default=True, help="Draws per level (averaged), 1..1000.")
 @click.option("--t-min", type=int, default=12, show_default=True, help="Smallest level of the linear fit, 1..19.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def curvature(inp, seed, repeats, t_min, as_json):
     """Gaussian-curvature degradation against the bits kept.
 

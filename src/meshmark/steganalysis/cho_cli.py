@@ -33,7 +33,7 @@ def add_command(group: click.Group) -> None:
     @click.option("--thesis-exact", is_flag=True, help="The thesis' rule with the literal eq. 6.4.17.")
     @click.option("--false-reject", type=float, default=0.01, show_default=True,
                   help="thesis: rate at which the balance test rejects random-message marks, (0, 1).")
-    @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+    @jsonout.option()
     def steganalysis_cho(inp, K_min, K_max, rule, false_alarm, trim, min_count, eps, eps2, thesis_exact,
                          false_reject, as_json):
         """Does IN carry a watermark of Cho et al.'s mean method? (thesis §6.4; docs/radial.md §3)
@@ -47,12 +47,12 @@ def add_command(group: click.Group) -> None:
                     eps=eps, eps2=eps2, thesis_exact=thesis_exact, false_reject=false_reject)
         rule = check_options(**opts)["rule"]  # before any work
         r = analyze(read_mesh(inp), **opts, fit_em=rule == "thesis")  # the EM fits only for the thesis' rule
-        d = {"input": inp, "rule": r["rule"], "k_estimate": int(r["k_estimate"]), "marked": bool(r["marked"]),
+        d = {"input": inp, "rule": r["rule"], "k_estimate": int(r["k_estimate"]), "detected": bool(r["marked"]),
              "K_max_used": int(r["K_max_used"]),
              "k_margin": int(r["k_margin"]), "marked_margin": bool(r["marked_margin"]), "p_value": float(r["p_value"]),
              "n_tests": int(r["n_tests"]), "margin": float(r["margin"]), "margin_bins": int(r["margin_bins"]),
              "margin_above": int(r["margin_above"])}
-        text = (f"{inp}: {'MARKED' if d['marked'] else 'clean'} (Cho mean method, {d['rule']} rule)\n"
+        text = (f"{inp}: {'MARKED' if d['detected'] else 'clean'} (Cho mean method, {d['rule']} rule)\n"
                 f"margin rule: K'' = {d['k_margin']}, p = {d['p_value']:.3g} over {d['n_tests']} K "
                 f"(level {false_alarm:g}), margin {d['margin']:.4f} on {d['margin_bins']} bins "
                 f"({d['margin_above']} above 1/2): {'marked' if d['marked_margin'] else 'clean'}")
@@ -69,5 +69,5 @@ def add_command(group: click.Group) -> None:
                      f"eq. 6.4.16 {'holds' if d['eq_6_4_16'] else 'fails'}, eq. 6.4.17 "
                      f"{'holds' if d['eq_6_4_17'] else 'fails'}; balance rule {bal} "
                      f"{'holds' if d['balance_test'] else 'fails'}: {'marked' if d['marked_thesis'] else 'clean'}")
-        click.echo(jsonout.dumps(d) if as_json else text)
-        sys.exit(0 if d["marked"] else 1)
+        jsonout.emit(d, as_json, text, aliases={"marked": "detected"})
+        sys.exit(0 if d["detected"] else 1)

@@ -12,8 +12,7 @@ from .. import jsonout
 from .._core import MeshError
 
 
-def _emit(d, as_json, text):
-    click.echo(jsonout.dumps(d) if as_json else text)
+_emit = jsonout.emit
 
 
 def _set_option(f):
@@ -57,16 +56,16 @@ def add_commands(group: click.Group) -> None:
     @group.command("features")
     @click.argument("inp", metavar="IN")
     @_set_option
-    @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+    @jsonout.option()
     def features_cmd(inp, feature_set, as_json):
         """The steganalysis feature vector of IN."""
         from .features import feature_names, features
 
         F = features(inp, feature_set)
         names = feature_names(feature_set)
-        d = {"input": inp, "set": feature_set, "n_features": int(F.size), "features": [float(x) for x in F],
+        d = {"input": inp, "feature_set": feature_set, "n_features": int(F.size), "features": [float(x) for x in F],
              "names": names}
-        _emit(d, as_json, "\n".join(f"{n:32s} {x: .6g}" for n, x in zip(names, F)))
+        _emit(d, as_json, "\n".join(f"{n:32s} {x: .6g}" for n, x in zip(names, F)), aliases={"set": "feature_set"})
 
     @group.command("train")
     @click.argument("covers", nargs=-1, required=True)
@@ -80,7 +79,7 @@ def add_commands(group: click.Group) -> None:
                   help="Domain check: share of the training covers (each against the others) beyond which a mesh is "
                        "'cannot judge'; 0 = no check.")
     @click.option("--force", is_flag=True, default=False, help="Overwrite an existing --out.")
-    @click.option("--json", "as_json", is_flag=True, help="Print a summary as JSON.")
+    @jsonout.option("Print a summary as JSON.")
     def train_cmd(covers, out, feature_set, classifier, methods, stego, seed, domain_rate, force, as_json):
         """Train a universal and per-method detectors on the cover meshes COVERS (files or folders) and
         their stego versions, and save the model to --out."""
@@ -116,7 +115,7 @@ def add_commands(group: click.Group) -> None:
             if domain_rate > 0 and len(c) >= 2:
                 model.training["domain"] = model.set_domain(X[c], ds["cover"][c], rate=domain_rate, group_kind="one cover file")
         model.save(out, overwrite=force)
-        d = {"model": out, "feature_set": feature_set, "classifier": classifier, **{k: v for k, v in training.items()
+        d = {"output": out, "model": out, "feature_set": feature_set, "classifier": classifier, **{k: v for k, v in training.items()
                                                                                   if k != "covers"}}
         _emit(d, as_json, f"wrote {out}: {classifier} on {feature_set}, {d['n_covers']} covers, {d['n_stego']} stego "
                           f"({', '.join(d['methods'])})")
@@ -125,7 +124,7 @@ def add_commands(group: click.Group) -> None:
     @click.argument("inp", metavar="IN")
     @click.option("--model", "model_path", default=None, type=click.Path(dir_okay=False),
                   help="Model file (default: the model shipped with meshmark).")
-    @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+    @jsonout.option()
     def detect_cmd(inp, model_path, as_json):
         """Is IN a stego mesh? The verdict ("marked", "no evidence" or "cannot judge": the mesh lies outside
         the model's training covers or is too small), the universal probability and one per stego method.
@@ -135,7 +134,7 @@ def add_commands(group: click.Group) -> None:
 
         model = Model.load(model_path)
         r = model.detect(inp)
-        d = {"input": inp, "verdict": r["verdict"], "reason": r["reason"], "marked": bool(r["marked"]),
+        d = {"input": inp, "verdict": r["verdict"], "reason": r["reason"], "detected": bool(r["marked"]),
              "probability": r["probability"], "threshold": r["threshold"],
              "methods": r["methods"], "feature_set": r["feature_set"], "classifier": r["classifier"],
              "model": str(model_path or "default")}
@@ -150,14 +149,14 @@ def add_commands(group: click.Group) -> None:
                 d["warning"] = r["warning"]
         per = ", ".join(f"{k} {v:.2f}" for k, v in sorted(r["methods"].items(), key=lambda kv: -kv[1]))
         head = (f"{inp}: CANNOT JUDGE: {d['reason']}" if d["verdict"] == "cannot judge" else
-                f"{inp}: {'MARKED' if d['marked'] else 'no evidence of a mark'} (universal P = {d['probability']:.2f}, "
+                f"{inp}: {'MARKED' if d['detected'] else 'no evidence of a mark'} (universal P = {d['probability']:.2f}, "
                 f"marked above {d['threshold']:.2f})")
         _emit(d, as_json, head + (f"\nper method: {per}" if per else "")
                           + (f"\nwarning: {d['warning']}" if "warning" in d else "")
                           + (f"\nthis model, cross-validated on its covers: {100 * d['operating_point']['cv_fpr']:.0f} % of "
                              f"clean meshes called marked, {100 * d['operating_point']['cv_tpr']:.0f} % of marked ones found"
-                             if "operating_point" in d else ""))
-        sys.exit(0 if d["marked"] else 1)
+                             if "operating_point" in d else ""), aliases={"marked": "detected"})
+        sys.exit(0 if d["detected"] else 1)
 
     @group.command("evaluate")
     @click.argument("covers", nargs=-1, required=True)
@@ -175,7 +174,7 @@ def add_commands(group: click.Group) -> None:
                   help="Drop covers that are the same geometry as another (byte-identical or another format / order).")
     @click.option("--csv", "csv_path", type=click.Path(dir_okay=False), help="Write one row per split and detector.")
     @click.option("--force", is_flag=True, default=False, help="Overwrite an existing --csv file.")
-    @click.option("--json", "as_json", is_flag=True, help="Print the median table as JSON.")
+    @jsonout.option("Print the median table as JSON.")
     def evaluate_cmd(covers, feature_set, classifier, splits, test_fraction, methods, dataset, proto, dedup, csv_path,
                      force, as_json):
         """Thesis chapter 8 protocol on COVERS: random cover-level splits (or, with --protocol sources,

@@ -58,8 +58,7 @@ def _adaptive_arg(adaptive: str):
     return {"triangle": True, "curvature": "curvature", "global": False}[adaptive]
 
 
-def _emit(d: dict, as_json: bool, text: str) -> None:
-    click.echo(jsonout.dumps(d) if as_json else text)
+_emit = jsonout.emit
 
 
 def check_stego_output(path: str, force: bool = False, precision: str | None = None) -> None:
@@ -146,7 +145,7 @@ def stego():
 @click.option("--precision", type=_PRECISION, default="fixed32", show_default=True,
               help="The storage the marked coordinates must survive exactly.")
 @click.option("--force", is_flag=True, default=False, help="Overwrite an existing OUT.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptive, level, precision, force, as_json):
     """Hide a message in IN and write OUT (.ply/.obj/.off), verified by reading OUT back.
     An existing OUT is replaced only with --force."""
@@ -193,7 +192,7 @@ def embed_cmd(inp, out, message, message_file, key, key_file, tolerance, adaptiv
 @click.option("--precision", type=_PRECISION, default="fixed32", show_default=True)
 @click.option("--out-file", type=click.Path(dir_okay=False), default=None, help="Write the message bytes here.")
 @click.option("--force", is_flag=True, default=False, help="Overwrite an existing --out-file.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_file, force, as_json):
     """Recover the message hidden in IN. Exit status: 0 found, 1 no message (wrong key, damaged, clean).
     A UTF-8 message is printed; binary bytes go to --out-file or a redirected output, never to a
@@ -209,7 +208,8 @@ def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_f
     mesh = read_mesh(inp)
     r = extract(mesh, k, tolerance=tolerance, adaptive=_adaptive_arg(adaptive), precision=precision, levels=level)
     if not r.found:
-        _emit({"input": inp, "found": False, "reason": r.reason}, as_json, f"{inp}: no message ({r.reason})")
+        _emit({"input": inp, "detected": False, "message": None, "reason": r.reason}, as_json,
+              f"{inp}: no message ({r.reason})", aliases={"found": "detected"})
         sys.exit(1)
     if out_file is not None:
         write_bytes(out_file, r.message, what="message file", overwrite=force)
@@ -217,10 +217,10 @@ def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_f
         text = r.message.decode("utf-8")
     except UnicodeDecodeError:
         text = None
-    d = {"input": inp, "found": True, "message_bytes": len(r.message), "message": text if out_file is None else None,
+    d = {"input": inp, "detected": True, "message_bytes": len(r.message), "message": text if out_file is None else None,
          "out_file": out_file}
     if as_json:
-        _emit(d, True, "")
+        _emit(d, True, "", aliases={"found": "detected"})
     elif out_file is not None:
         click.echo(f"{inp}: {len(r.message)} bytes written to {out_file}")
     elif text is not None:
@@ -239,7 +239,7 @@ def extract_cmd(inp, key, key_file, tolerance, adaptive, level, precision, out_f
 @_common
 @click.option("--precision", type=click.Choice(["all", "fixed32", "float32", "float64"]), default="all",
               show_default=True)
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def capacity_cmd(inp, tolerance, adaptive, level, precision, as_json):
     """Hiding capacity of IN per storage precision (bits per vertex, longest message)."""
     from ..io import read_mesh

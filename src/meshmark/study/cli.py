@@ -39,7 +39,7 @@ def _dask_option(value):
 @click.option("--retries", type=int, default=1, show_default=True, help="Times a failed task is run again, 0..100.")
 @click.option("--dry-run", is_flag=True, help="Plan and compute the task keys only; print the counts and timing.")
 @click.option("--progress/--no-progress", default=None, help="Progress bar (default: on a terminal).")
-@click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+@jsonout.option("Print the summary as JSON.")
 def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run, progress, as_json):
     """Run (or resume) the study SPEC (a TOML file); results go under --out."""
     from . import engine
@@ -59,7 +59,7 @@ def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run,
         t0 = time.perf_counter()
         sp = load_spec(spec)
         keys, idx, _ = plan(sp)
-        d = {"tasks": len(keys), "meshes": len(sp.meshes), "methods": len(sp.methods), "attacks": len(sp.attacks),
+        d = {"input": spec, "output": out, "dry_run": True, "tasks": len(keys), "meshes": len(sp.meshes), "methods": len(sp.methods), "attacks": len(sp.attacks),
              "seeds": len(sp.seeds), "seconds": round(time.perf_counter() - t0, 3),
              "unique_keys": len(set(keys))}
         if os.path.isdir(out):
@@ -67,14 +67,19 @@ def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run,
                 d["done"] = len(engine.finished_keys(out) & set(keys))
             except Exception:  # noqa: BLE001 - a dry run reports what it can
                 pass
-        click.echo(jsonout.dumps(d, indent=1) if as_json else
-                   f"{d['tasks']} tasks ({d['meshes']} meshes x {d['methods']} methods x {d['seeds']} seeds x "
-                   f"{d['attacks']} attacks), {d['unique_keys']} unique keys, planned in {d['seconds']} s")
+        jsonout.emit(d, as_json, indent=1, text=
+                     f"{d['tasks']} tasks ({d['meshes']} meshes x {d['methods']} methods x {d['seeds']} seeds x "
+                     f"{d['attacks']} attacks), {d['unique_keys']} unique keys, planned in {d['seconds']} s")
         return
     S = engine.run(spec, out, workers=workers, dask=dask, progress=progress, retries=retries,
                    ship_meshes=ship_meshes, chunk_size=chunk_size)
     if as_json:
-        click.echo(jsonout.dumps(S.to_dict(), indent=1))
+        summary = S.to_dict()
+        summary["tasks_ok"] = summary.pop("ok")  # "ok" is the command's own flag under --json (docs/json.md)
+        d = jsonout.result({"input": spec, "output": out, "dry_run": False, **summary})
+        if S.failed:  # exit 3: the failure object, with the summary
+            d.update(jsonout.error_object(3, "tasks_failed", f"{S.failed} of {S.planned} tasks failed"))
+        click.echo(jsonout.dumps(d, indent=1))
     else:
         click.echo(f"{S.planned} planned, {S.skipped} already done, {S.ok} ok, {S.mesh_error} mesh errors, "
                    f"{S.failed} failed; {S.wall:.1f} s. Results: {out}/results")
@@ -85,13 +90,13 @@ def run_cmd(spec, out, workers, dask, ship_meshes, chunk_size, retries, dry_run,
 @study.command("status")
 @click.argument("out")
 @click.option("--spec", default=None, help="The spec, to count what is left to run.")
-@click.option("--json", "as_json", is_flag=True)
+@jsonout.option()
 def status_cmd(out, spec, as_json):
     """Counts of the results under OUT by status and method (and what is left, with --spec)."""
     from . import engine
     d = engine.status(out, spec)
     if as_json:
-        click.echo(jsonout.dumps(d, indent=1))
+        jsonout.emit({"input": out, **d}, True, "", indent=1)
         return
     lines = [f"{d['rows']} results: " + ", ".join(f"{v} {k}" for k, v in d["by_status"].items())]
     if "planned" in d:
@@ -108,10 +113,10 @@ def status_cmd(out, spec, as_json):
 @click.argument("results")
 @click.option("--out", "out", default=None, help="Folder for the PNG figures and summary.csv (default RESULTS/plots).")
 @click.option("--force", is_flag=True, default=False, help="Overwrite the figures of an earlier plot in --out.")
-def plot_cmd(results, out, force):
+@jsonout.option("Print the files written as JSON.")
+def plot_cmd(results, out, force, as_json):
     """Standard figures (CDR vs attack strength per method, detection vs deformation, capacity vs size)
     as PNG and a CSV summary (means per method and attack)."""
     from . import plot
-    written = plot.plot(results, out, overwrite=force)
-    for p in written:
-        click.echo(p)
+    written = [str(p) for p in plot.plot(results, out, overwrite=force)]
+    jsonout.emit({"input": results, "output": out or os.path.join(results, "plots"), "files": written}, as_json, "\n".join(written))

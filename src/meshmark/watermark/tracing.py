@@ -257,7 +257,8 @@ def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, ke
     """Which issued copy is this mesh? Returns a dict with ``detected``, ``copy`` (id or None),
     ``p_false_alarm`` (corrected for every codeword compared and, when the original was used, for the
     two tests), ``evidence`` (``"informed+blind"`` or ``"blind"``), ``matches``, ``n_carriers``,
-    ``n_copies``, ``asset_id``, ``second_matches``, ``blind`` and ``informed`` (each test's best copy,
+    ``n_copies``, ``asset_id``, ``second_matches`` (``copy``, ``matches``, ``n_carriers``, ``asset_id`` and
+    ``second_matches`` are None when no copy is named), ``blind`` and ``informed`` (each test's best copy,
     its p and details; ``informed`` is None without an original) and ``originals`` (per asset: where
     the original was looked for and whether it was used).
 
@@ -321,8 +322,8 @@ def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, ke
         if given is not None and not any(o["status"] == "given" for o in originals):
             raise MeshError("the original given is not the original of any asset in the registry (its digest differs)")
         if best is None:
-            return {"detected": False, "copy": None, "p_false_alarm": 1.0, "evidence": "blind", "matches": 0,
-                    "n_carriers": 0, "n_copies": n_total, "asset_id": None, "second_matches": 0,
+            return {"detected": False, "copy": None, "p_false_alarm": 1.0, "evidence": "blind", "matches": None,
+                    "n_carriers": None, "n_copies": n_total, "asset_id": None, "second_matches": None,
                     "blind": None, "informed": None, "originals": originals}
         p_blind = min(1.0, n_total * false_alarm_probability(best["matches"], best["n_carriers"]))
         blind = {"copy": best["copy_id"], "asset_id": best["asset_id"], "p_false_alarm": p_blind,
@@ -336,10 +337,13 @@ def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, ke
             if p_inf < p_blind:
                 winner = informed
         detected = bool(p < DETECTION_THRESHOLD)
-        return {"detected": detected, "copy": winner["copy"] if detected else None, "p_false_alarm": p,
+        # the copy's asset, bits and carriers only for a named copy (null for "none"); "blind" and
+        # "informed" keep each test's best candidate with its own asset_id
+        named = (lambda v: v if detected else None)
+        return {"detected": detected, "copy": named(winner["copy"]), "p_false_alarm": p,
                 "evidence": "informed+blind" if informed is not None else "blind",
-                "matches": best["matches"], "n_carriers": best["n_carriers"], "n_copies": n_total,
-                "asset_id": winner["asset_id"] if detected else None, "second_matches": best["second_matches"],
+                "matches": named(best["matches"]), "n_carriers": named(best["n_carriers"]), "n_copies": n_total,
+                "asset_id": named(winner["asset_id"]), "second_matches": named(best["second_matches"]),
                 "blind": blind, "informed": informed, "originals": originals}
     finally:
         if not isinstance(registry, Registry):

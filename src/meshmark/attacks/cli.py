@@ -1,17 +1,13 @@
-"""``meshmark attack``: one attack (``--type``) or a chain (``--chain``) of meshmark.attacks."""
+"""``meshmark attack``: one attack (``--type``) or a chain (``--chain``) of meshmark.attacks (registered by
+one line in meshmark.cli)."""
 from __future__ import annotations
 
 import math
 
 import click
 
-from . import jsonout
-from ._core import MeshError
-
-
-def _emit(result: dict, as_json: bool, text: str) -> None:
-    text = jsonout.dumps(result) if as_json else str(text)
-    click.echo(text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace"))
+from .. import jsonout
+from .._core import MeshError
 
 
 # CLI option -> keyword of the attack functions (meshmark.attacks); an option given to an attack that
@@ -54,7 +50,7 @@ _PER_TYPE_INT = {("remesh", "iterations"): (1, 100)}
 
 def check_options(name, opts: dict) -> None:
     """ParameterError (exit 2, the option named) for a numeric option outside its range."""
-    from .ranges import check_float, check_int
+    from ..ranges import check_float, check_int
     for k, v in opts.items():
         if v is None:
             continue
@@ -104,7 +100,7 @@ def check_options(name, opts: dict) -> None:
 @click.option("--decimals", type=int, help="roundtrip obj: decimals written, 0..17 (default 6).")
 @click.option("--seed", type=int, help="random attacks: seed, 0..2^64-1 (default 0).")
 @click.option("--force", is_flag=True, default=False, help="Overwrite an existing OUT.")
-@click.option("--json", "as_json", is_flag=True, help="Print a summary (with the distortion) as JSON.")
+@jsonout.option("Print a summary (with the distortion) as JSON.")
 def attack(mesh_in, mesh_out, name, chain_text, force, as_json, **opts):
     """Apply an attack (--type) or a chain of attacks (--chain) to IN and write the result to OUT
     (format from the extension, double precision).
@@ -120,10 +116,10 @@ def attack(mesh_in, mesh_out, name, chain_text, force, as_json, **opts):
       meshmark attack in.obj out.ply --chain "bend:30,simplify:0.5,noise:0.001,similarity,reorder,roundtrip:obj" --seed 2
     """
     import numpy as np
-    from .atomic import check_output, write_all
-    from .io import mesh_outputs, read_mesh
-    from .attacks import ATTACKS, attack as run_attack, chain as run_chain, parameters, parse_chain
-    from .metrics import compare
+    from ..atomic import check_output, write_all
+    from ..io import mesh_outputs, read_mesh
+    from . import ATTACKS, attack as run_attack, chain as run_chain, parameters, parse_chain
+    from ..metrics import compare
 
     if (name is None) == (chain_text is None):
         raise MeshError("give exactly one of --type NAME or --chain STEPS")
@@ -158,9 +154,9 @@ def attack(mesh_in, mesh_out, name, chain_text, force, as_json, **opts):
     same = np.array_equal(out.face_indices, m.face_indices) and np.array_equal(out.face_offsets, m.face_offsets)
     write_all(mesh_outputs(mesh_out, out.V, m if same else out, fmt if same else None), what=["attacked mesh"],
               overwrite=force)
-    d = {"in": mesh_in, "out": mesh_out, "type": label, "params": params,
+    d = {"input": mesh_in, "output": mesh_out, "type": label, "params": params,
          "n_vertices": out.n_vertices, "n_faces": out.n_faces}
     text = f"{label}: wrote {mesh_out} ({out.n_vertices} vertices, {out.n_faces} faces)"
     if as_json:
         d["distortion"] = compare(m, out)
-    _emit(d, as_json, text)
+    jsonout.emit(d, as_json, text, aliases={"in": "input", "out": "output"})

@@ -8,8 +8,8 @@ import sys
 
 import click
 
-from . import jsonout
-from ._core import MeshError
+from .. import jsonout
+from .._core import MeshError
 
 
 MAX_IDS_BYTES = 64 << 20
@@ -18,7 +18,7 @@ MAX_IDS_BYTES = 64 << 20
 def _read_ids(path: str) -> list:
     """The ids of an --ids CSV file (first column; '#' comments and an 'id' header skipped), each
     checked (usable in a file name) with its line named."""
-    from .watermark.registry import MAX_COPIES, check_copy_id, shown
+    from .registry import MAX_COPIES, check_copy_id, shown
 
     try:
         with open(path, "rb") as f:
@@ -63,8 +63,8 @@ class _CopyFiles:
                 raise MeshError(f"{self.path(clash[0])} exists; pass --force to overwrite (nothing was recorded)")
 
     def write(self, cid, V):
-        from .atomic import temp_path
-        from .io import mesh_outputs
+        from ..atomic import temp_path
+        from ..io import mesh_outputs
 
         files = []
         try:
@@ -95,12 +95,12 @@ class _CopyFiles:
               show_default=True)
 @click.option("--params", "params_mode", type=click.Choice(["auto", "thesis"]), default="auto", show_default=True)
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing copy files in OUTDIR.")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, force, as_json):
     """Write marked copies of IN into OUTDIR (IN's format), each with its own codeword, and record
     them in the registry."""
-    from .io import read_mesh
-    from .watermark import tracing
+    from ..io import read_mesh
+    from . import tracing
 
     if (copies is None) == (ids_csv is None):
         raise MeshError("give exactly one of --copies N or --ids ids.csv")
@@ -118,9 +118,10 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
     finally:
         reg.close()
     paths = dict(out)
-    d = {"input": inp, "registry": registry, "copies": [{"id": c, "path": p} for c, p in paths.items()]}
-    click.echo(jsonout.dumps(d) if as_json else
-               f"issued {len(paths)} copies of {inp} into {outdir} (ids {out[0][0]}..{out[-1][0]}); registry {registry}")
+    d = {"input": inp, "output": outdir, "registry": registry,
+         "copies": [{"id": c, "path": p} for c, p in paths.items()]}
+    jsonout.emit(d, as_json,
+                 f"issued {len(paths)} copies of {inp} into {outdir} (ids {out[0][0]}..{out[-1][0]}); registry {registry}")
 
 
 @click.command()
@@ -129,7 +130,7 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
 @click.option("--key", default=None, help="The owner's key (if the registry does not store it).")
 @click.option("--original", default=None, type=click.Path(dir_okay=False),
               help="The unmarked original (default: the path recorded by issue, if its digest still matches).")
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@jsonout.option()
 def trace(suspect, registry, key, original, as_json):
     """Which issued copy is SUSPECT? Names the best copy if its false-alarm probability (corrected for
     every copy in the registry, and for the two tests when the original is used) is below 1e-6, else
@@ -138,8 +139,8 @@ def trace(suspect, registry, key, original, as_json):
 
     Exit status: 0 a copy named, 1 none, 2 error.
     """
-    from . import read_mesh
-    from .watermark import tracing
+    from .. import read_mesh
+    from . import tracing
 
     r = tracing.trace(read_mesh(suspect), registry=registry, key=key, original=original)
     d = {"input": suspect, **r}
@@ -151,7 +152,7 @@ def trace(suspect, registry, key, original, as_json):
             f"copies, evidence {r['evidence']})" if r["detected"] else
             f"{suspect}: none ({ev}; P(false alarm) {r['p_false_alarm']:.3g} over {r['n_copies']} copies, "
             f"evidence {r['evidence']})")
-    click.echo(jsonout.dumps(d) if as_json else text)
+    jsonout.emit(d, as_json, text)
     sys.exit(0 if r["detected"] else 1)
 
 
