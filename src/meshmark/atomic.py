@@ -332,6 +332,20 @@ def write_text(path, text: str, private: bool = False) -> None:
     write_all([(path, text_writer(text))], private=[private])
 
 
+def read_at_most(path, limit: int, what: str, too_large: str = "") -> bytes:
+    """The bytes of ``path``, read with a bound: MeshError (exit 2) naming ``what`` (e.g. ``"keyfile
+    'k.json'"``) when it cannot be read or holds more than ``limit`` bytes (``too_large`` is appended
+    to that message)."""
+    try:
+        with open(path, "rb") as f:
+            raw = f.read(limit + 1)
+    except OSError as exc:
+        raise MeshError(f"cannot read {what}: {exc.strerror or exc}") from None
+    if len(raw) > limit:
+        raise MeshError(f"{what} is larger than {limit >> 20} MB{too_large}")
+    return raw
+
+
 def write_bytes(path, data: bytes, private: bool = False, what: str = "file", overwrite: bool = True) -> None:
     """Write ``data`` to ``path`` atomically (as :func:`write_text`)."""
     def write(tmp):

@@ -18,15 +18,10 @@ MAX_IDS_BYTES = 64 << 20
 def _read_ids(path: str) -> list:
     """The ids of an --ids CSV file (first column; '#' comments and an 'id' header skipped), each
     checked (usable in a file name) with its line named."""
+    from ..atomic import read_at_most
     from .registry import MAX_COPIES, check_copy_id, shown
 
-    try:
-        with open(path, "rb") as f:
-            raw = f.read(MAX_IDS_BYTES + 1)
-    except OSError as exc:
-        raise MeshError(f"cannot read --ids '{shown(path)}': {exc.strerror or exc}") from None
-    if len(raw) > MAX_IDS_BYTES:
-        raise MeshError(f"--ids '{shown(path)}' is larger than {MAX_IDS_BYTES >> 20} MB")
+    raw = read_at_most(path, MAX_IDS_BYTES, f"--ids '{shown(path)}'")
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -37,6 +37,7 @@ import os
 from dataclasses import dataclass, field
 
 from .._core import MeshError
+from ..atomic import read_at_most
 from . import keyfile_schema as _schema
 from .keyfile_schema import (FIELDS, FORMAT, MAX_CARRIER_ID, MAX_DEPTH, MESH_CHECKS, PARAM_CHECKS,  # noqa: F401
                              READABLE_VERSIONS, REQUIRED, SIDE_CHECKS, VERSION, _float, _int, _optional, _short, _type)
@@ -214,13 +215,7 @@ def load_keyfile(path_or_keyfile: Keyfile | PathLike, key: str | None = None) ->
     path = os.fspath(path_or_keyfile)
     shown = os.fsdecode(path).encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
     source = f"keyfile '{shown}'"
-    try:
-        with open(path, "rb") as f:
-            raw = f.read(MAX_BYTES + 1)
-    except OSError as exc:
-        raise MeshError(f"cannot read keyfile '{shown}': {exc.strerror or exc}") from None
-    if len(raw) > MAX_BYTES:
-        raise MeshError(f"{source} is larger than {MAX_BYTES >> 20} MB (not a meshmark keyfile)")
+    raw = read_at_most(path, MAX_BYTES, source, " (not a meshmark keyfile)")
     d = parse_keyfile_text(raw, source)
     kf = Keyfile.from_dict(d, source=source)
     kf.tagged = "tag" in d
