@@ -9,7 +9,7 @@ import pytest
 
 import meshmark
 from meshmark import MeshError
-from meshmark.metrics import false_alarm_probability
+from meshmark.metrics import false_alarm_probability, weighted_false_alarm_probability
 from meshmark.watermark import tracing
 
 from conftest import shared_mesh
@@ -103,3 +103,31 @@ def test_cli_issue_trace(fandisk, tmp_path):
     assert "none" in run("trace", src, "--registry", reg).stdout
     bad = run("issue", src, str(out), "--copies", "2", "--ids", str(ids), "--key", "owner", "--registry", reg)
     assert bad.returncode == 2 and "exactly one of --copies" in bad.stderr
+
+
+def test_the_soft_correlation_names_a_copy_with_many_weak_wrong_bits_and_no_other(fandisk, tmp_path, monkeypatch):
+    """A read as a pose leaves it (the Knight's frames, docs/blender.md): 30 % of the bits wrong,
+    each with a small margin (0.05), the rest at 0.6. The bit count cannot certify copy 0002 among
+    4 (p = 4 P(Bin(C, 1/2) >= 0.7 C) > 1e-6); the soft correlation does, with p = 4 times the weighted
+    tail; the same read of a codeword never issued names no copy."""
+    from meshmark.watermark import framework
+    reg = tmp_path / "r.sqlite"
+    tracing.issue(fandisk, key="owner", registry=reg, n_copies=4)
+    with tracing.Registry(reg, create=False) as db:
+        (asset_id, _, C), = db.assets()
+        cids, W = db.codewords(asset_id, C)
+    rng = np.random.default_rng(3)
+    wrong = rng.permutation(C)[: 3 * C // 10]
+    for cw, expect in ((W[1], "0002"), (rng.integers(0, 2, C).astype(np.uint8), None)):
+        bits = cw.astype(np.uint8).copy()
+        bits[wrong] ^= 1
+        soft = np.where(bits == 1, 1.0, -1.0) * np.where(np.isin(np.arange(C), wrong), 0.05, 0.6)
+        monkeypatch.setattr(framework, "read_soft", lambda mesh, kf, key: (bits, soft))
+        r = tracing.trace(fandisk, registry=reg)
+        assert r["copy"] == expect and r["detected"] == (expect is not None)
+        if expect:
+            assert r["matches"] == C - 3 * C // 10 and 4 * false_alarm_probability(r["matches"], C) > 1e-6
+            assert r["p_false_alarm"] == pytest.approx(
+                4 * weighted_false_alarm_probability(soft, r["blind"]["score"]), rel=1e-12) and r["p_false_alarm"] < 1e-6
+        else:
+            assert r["p_false_alarm"] > 1e-3

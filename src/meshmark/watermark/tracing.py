@@ -3,17 +3,21 @@
 :func:`issue` marks N copies of a mesh, each with its own random codeword of C bits (one per carrier,
 whitened and placed with the owner's key exactly as a payload is), all with the same parameters and
 the original's side information, and records them in a registry (:class:`Registry`, one SQLite file).
-:func:`trace` reads the carriers of a suspect mesh and correlates the bits with every codeword issued:
-the best copy j has m_j matching bits out of C; for an unmarked mesh (or another asset) each
-codeword matches like a fair coin, so the false-alarm probability, corrected for the N codewords
-compared (Bonferroni), is::
+:func:`trace` reads the carriers of a suspect mesh with their signed reliabilities s (the method's
+soft read; Laplacian: a pair's count margin over its size) and correlates them with every codeword
+issued: copy j scores T_j = sum_i (2 c_ji - 1) s_i (its matching bits m_j are reported too). For an
+unmarked mesh (or another asset) each codeword's bits are fair coins independent of s, so T_j is
+distributed as sum_i e_i |s_i| with fair signs e_i, whatever the mesh; the false-alarm probability,
+corrected for the N codewords compared (Bonferroni), is::
 
-    p_false_alarm = min(1, N * P(Bin(C, 1/2) >= m_best))
+    p_false_alarm = min(1, N * P(sum_i e_i |s_i| >= T_best))      (metrics.weighted_false_alarm_probability)
 
 and a copy is named only when ``p_false_alarm < 1e-6`` (else ``copy`` is None: "none"). The same bound
 holds for naming a *wrong* copy when the suspect is copy i (the other codewords are independent of
-copy i's). With C carriers read perfectly, ``N 2^-C < 1e-6`` needs C >= 27 for N = 100 (26 carriers
-rank the right copy first among 100 but certify only 100 * 2^-26 = 1.5e-6).
+copy i's and of s). Weighting by reliability lets the many bits a pose flips with a small margin
+count little: the posed Knight's frames with 17 of 83 bits wrong are named (docs/blender.md). With
+C carriers read perfectly and none at a tie (s_i = 0), p = N 2^-C as for the bit count: C >= 27 for
+N = 100 (26 carriers rank the right copy first among 100 but certify only 100 * 2^-26 = 1.5e-6).
 
 The registry (:class:`Registry`, :mod:`.registry`: schema, checks, locking) holds one row per
 asset (the original's digest and its setup: method, parameters, carriers, side information, the
@@ -38,7 +42,7 @@ import numpy as np
 
 from .._core import MeshError
 from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
-from ..metrics import false_alarm_probability
+from ..metrics import weighted_false_alarm_probability
 from . import informed as _informed
 from . import keys as _keys
 from .framework import DETECTION_THRESHOLD, MAX_ROUNDS, MIN_CARRIERS, _weld, embed_channel
@@ -299,12 +303,13 @@ def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, ke
             b = bits.astype(np.int32)
             Wi = W.astype(np.int32)
             matches = C - int(b.sum()) - Wi.sum(1) + 2 * (Wi @ b)
-            score = (2.0 * W - 1.0) @ soft  # soft correlation breaks ties
-            j = int(np.lexsort((-score, -matches))[0])
+            score = (2.0 * W - 1.0) @ soft  # the soft correlation; matches break ties
+            j = int(np.lexsort((-matches, -score))[0])
             second = int(np.partition(matches, -2)[-2]) if len(cids) > 1 else 0
             cand = {"asset_id": asset_id, "copy_id": cids[j], "matches": int(matches[j]), "n_carriers": int(C),
-                    "second_matches": second}
-            if best is None or false_alarm_probability(cand["matches"], C) < false_alarm_probability(best["matches"], best["n_carriers"]):
+                    "second_matches": second, "score": float(score[j]),
+                    "tail": weighted_false_alarm_probability(soft, float(score[j]))}
+            if best is None or cand["tail"] < best["tail"]:
                 best = cand
             orig, info = _informed.find_original(reg, asset_id, setup, given)
             originals.append(info)
@@ -325,9 +330,9 @@ def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, ke
             return {"detected": False, "copy": None, "p_false_alarm": 1.0, "evidence": "blind", "matches": None,
                     "n_carriers": None, "n_copies": n_total, "asset_id": None, "second_matches": None,
                     "blind": None, "informed": None, "originals": originals}
-        p_blind = min(1.0, n_total * false_alarm_probability(best["matches"], best["n_carriers"]))
+        p_blind = min(1.0, n_total * best["tail"])
         blind = {"copy": best["copy_id"], "asset_id": best["asset_id"], "p_false_alarm": p_blind,
-                 "matches": best["matches"], "n_carriers": best["n_carriers"]}
+                 "matches": best["matches"], "n_carriers": best["n_carriers"], "score": best["score"]}
         informed = None
         winner, p = blind, p_blind
         if best_inf is not None:
