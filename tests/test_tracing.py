@@ -131,3 +131,16 @@ def test_the_soft_correlation_names_a_copy_with_many_weak_wrong_bits_and_no_othe
                 4 * weighted_false_alarm_probability(soft, r["blind"]["score"]), rel=1e-12) and r["p_false_alarm"] < 1e-6
         else:
             assert r["p_false_alarm"] > 1e-3
+
+
+def test_copies_of_another_key_and_noisy_originals_name_no_copy(fandisk, tmp_path):
+    """The false alarm with the soft read: the copies of the same mesh issued under another key (another
+    registry), and the original under noise, traced against the owner's 6 copies: no copy named."""
+    from meshmark import attacks
+    reg = tmp_path / "r.sqlite"
+    tracing.issue(fandisk, key="owner", registry=reg, n_copies=6)
+    other = tracing.issue(fandisk, key="thief", registry=tmp_path / "t.sqlite", n_copies=3)
+    suspects = [V for _, V in other] + [attacks.noise(fandisk.V, fandisk.F, strength=2e-4, seed=s).V for s in (1, 2)]
+    for V in suspects:  # (each p < 1e-5 with probability <= 1e-5: the codewords are drawn afresh)
+        r = tracing.trace(V, fandisk.F, registry=reg)
+        assert (r["detected"], r["copy"]) == (False, None) and r["p_false_alarm"] > 1e-5
