@@ -130,7 +130,7 @@ def test_the_soft_correlation_names_a_copy_with_many_weak_wrong_bits_and_no_othe
             assert r["p_false_alarm"] == pytest.approx(
                 4 * weighted_false_alarm_probability(soft, r["blind"]["score"]), rel=1e-12) and r["p_false_alarm"] < 1e-6
         else:
-            assert r["p_false_alarm"] > 1e-3
+            assert r["p_false_alarm"] > 1e-5  # below with probability <= 1e-5 (the codewords are drawn afresh)
 
 
 def test_copies_of_another_key_and_noisy_originals_name_no_copy(fandisk, tmp_path):
