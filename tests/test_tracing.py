@@ -144,3 +144,26 @@ def test_copies_of_another_key_and_noisy_originals_name_no_copy(fandisk, tmp_pat
     for V in suspects:  # (each p < 1e-5 with probability <= 1e-5: the codewords are drawn afresh)
         r = tracing.trace(V, fandisk.F, registry=reg)
         assert (r["detected"], r["copy"]) == (False, None) and r["p_false_alarm"] > 1e-5
+
+
+def test_a_read_the_range_search_spoils_is_read_again_at_the_recorded_range(fandisk, tmp_path, monkeypatch):
+    """The Knight's frames where the histogram's range search was fooled by the pose (t = 0.95: 41 of 83
+    bits): trace also reads at the recorded range and names the copy from that read, with Bonferroni
+    over the 2 distinct reads (p = 2 x 4 x the weighted tail); when both reads agree, n_reads is 1."""
+    from meshmark.watermark import framework
+    reg = tmp_path / "r.sqlite"
+    V = tracing.issue(fandisk, key="owner", registry=reg, n_copies=4)[2][1]
+    with tracing.Registry(reg, create=False) as db:
+        (asset_id, setup, C), = db.assets()
+        cids, W = db.codewords(asset_id, C)
+    assert setup["side_info"]["range_search"] is True
+    assert tracing.trace(V, fandisk.F, registry=reg)["blind"]["n_reads"] == 1
+    rng = np.random.default_rng(4)
+    junk = rng.integers(0, 2, C).astype(np.uint8)
+    good = W[2].astype(np.uint8)
+    fake = lambda mesh, kf, key: (lambda b: (b, np.where(b == 1, 0.5, -0.5)))(
+        junk if kf.side_info["range_search"] else good)
+    monkeypatch.setattr(framework, "read_soft", fake)
+    r = tracing.trace(V, fandisk.F, registry=reg)
+    assert (r["copy"], r["blind"]["read"], r["blind"]["n_reads"]) == ("0003", "recorded", 2)
+    assert r["p_false_alarm"] == pytest.approx(8 * weighted_false_alarm_probability(np.full(C, 0.5), 0.5 * C), rel=1e-12)
