@@ -15,8 +15,9 @@ corrected for the N codewords compared (Bonferroni), is::
 and a copy is named only when ``p_false_alarm < 1e-6`` (else ``copy`` is None: "none"). The same bound
 holds for naming a *wrong* copy when the suspect is copy i (the other codewords are independent of
 copy i's and of s). Weighting by reliability lets the many bits a pose flips with a small margin
-count little: the posed Knight's frames with 17 of 83 bits wrong are named (docs/blender.md). With
-C carriers read perfectly and none at a tie (s_i = 0), p = N 2^-C as for the bit count: C >= 27 for
+count little (the posed Knight, docs/blender.md). A Laplacian read is also made at the recorded
+histogram range (:func:`_reads`) and p multiplied by the number of distinct reads. With C carriers
+read perfectly and none at a tie (s_i = 0), p is about N 2^-C as for the bit count: C >= 27 for
 N = 100 (26 carriers rank the right copy first among 100 but certify only 100 * 2^-26 = 1.5e-6).
 
 The registry (:class:`Registry`, :mod:`.registry`: schema, checks, locking) holds one row per
