@@ -36,7 +36,7 @@ def test_blender_demo_quick(tmp_path):
 
 def test_knight_parts_quick(tmp_path):
     """The Knight's 6 skinned parts marked as one carrier (2 actions, every 4th frame), 5 copies issued and
-    copy 0003 traced on every checked frame; the unmarked original at rest is traced to no copy."""
+    copy 0003 traced on every checked frame; the unmarked original, at rest and posed, is traced to no copy."""
     stdout, out = _run("knight_parts.py", "--quick", "--out", tmp_path)
     res = json.loads((tmp_path / "knight_parts_all_knight_step4.json").read_text())
     d, t = res["detect"], res["trace"]
@@ -45,6 +45,8 @@ def test_knight_parts_quick(tmp_path):
     assert t["copies"] == 5 and t["original_at_rest"] is None
     leak = t["leaks"]["0003"]
     assert leak["wrong"] == 0 and leak["right"] >= 0.9 and leak["frames"] == d["frames"]
+    u = t["unmarked"]
+    assert u["named"] == 0 and u["frames"] >= 2 and u["min_p"] > 1e-6
     assert f"{d['frames']} frames of 2 actions" in stdout
 
 

@@ -83,8 +83,9 @@ def knight(args, folder):
                 f"worst action {100 * right_act:.1f} % ("
                 + "; ".join(f"{k}: {v['worst_actions'][0][0]} {100 * v['worst_actions'][0][2]:.1f} %"
                             for k, v in t["leaks"].items()) + ")", right_act >= 0.97),
-            row("Knight: wrong copy", "none", f"{wrong} frames (no copy: "
-                f"{sum(x['none'] for x in leaks)} frames)", wrong == 0)]
+            row("Knight: wrong copy", "none", f"{wrong} frames (no copy: {sum(x['none'] for x in leaks)} frames); the "
+                f"unmarked original posed: a copy named on {t['unmarked']['named']} of {t['unmarked']['frames']} frames "
+                f"(smallest p {t['unmarked']['min_p']:.2g})", wrong == 0 and t["unmarked"]["named"] == 0)]
 
 
 def suzanne(args, folder):

@@ -10,7 +10,8 @@ Runs with the bpy module (Blender's own glTF importer reads ../shared/meshes/rig
 ``api.check_frames`` for each action (the frame check: each frame's parts posed by the armature,
 read through their deforming modifiers, joined as the keyfile records them). ``trace``: a fresh
 import, ``api.issue(parts, copies=N)``, each leaked copy's file read back and split into the parts
-(their base meshes), and ``api.trace(parts)`` on every ``--step``-th frame of every action. Prints and
+(their base meshes), and ``api.trace(parts)`` on every ``--step``-th frame of every action; then the
+unmarked original on every 4 ``--step``-th frame (no copy may be named). Prints and
 writes a markdown table and a JSON file into ``--out``.
 """
 from __future__ import annotations
@@ -123,8 +124,17 @@ def trace(args, folder):
         for o in parts:
             o.data.vertices.foreach_set("co", rest[o.name].ravel())
             o.data.update()
-    # the unmarked original, at rest: none
+    # the unmarked original, at rest and posed on every 4th frame of every action: none
     out["original_at_rest"] = api.trace(parts, registry="//copies.sqlite", evaluated=False).copy
+    named, ps = 0, []
+    for act in actions():
+        rig.animation_data.action = act
+        for f in frames_of(act, 4 * args.step):
+            bpy.context.scene.frame_set(f)
+            r = api.trace(parts, registry="//copies.sqlite")
+            named += r.copy is not None
+            ps.append(r.p_false_alarm)
+    out["unmarked"] = {"frames": len(ps), "named": named, "min_p": float(min(ps))}
     out["seconds"] = time.perf_counter() - t0
     return out
 
@@ -162,6 +172,9 @@ def main(argv=None):
                 print(f"knight parts: copy {leak} of {res['trace']['copies']}, {t['frames']} frames: right copy "
                       f"{100 * t['right']:.1f} % (worst action {100 * t['min_action_right']:.1f} %), wrong copy {t['wrong']}, "
                       f"none {t['none']}", flush=True)
+            u = res["trace"]["unmarked"]
+            print(f"knight parts: the unmarked original posed, {u['frames']} frames: a copy named on {u['named']} "
+                  f"(smallest p {u['min_p']:.2g})", flush=True)
     name = f"knight_parts_{args.part}_{args.key}_step{args.step}"
     with open(os.path.join(args.out, name + ".json"), "w") as f:
         json.dump(res, f, indent=1, default=str)

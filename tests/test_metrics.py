@@ -297,3 +297,35 @@ def test_hausdorff_after_simplification_matches_dense_kdtree_and_cap_reports_the
     assert capped["lower"] <= h["lower"] * (1 + 1e-9) and capped["upper"] >= h["lower"] * (1 - 1e-9)
     with pytest.raises(MeshError, match="max_queries"):
         M.hausdorff_distance(s, cow, max_queries=0)
+
+
+def test_weighted_false_alarm_probability_is_the_binomial_tail_for_unit_weights():
+    """All reliabilities 1: the correlation 2m - n of m matching bits has the binomial tail exactly."""
+    for n in (27, 55, 83, 150):
+        for m in range(n // 2 + 1, n + 1, 3):
+            assert M.weighted_false_alarm_probability(np.ones(n), 2 * m - n) == pytest.approx(
+                M.false_alarm_probability(m, n), rel=1e-9)
+    assert M.weighted_false_alarm_probability([0.5, 0.0, 0.0], 0.5) == pytest.approx(0.5)  # zeros: no evidence
+    assert M.weighted_false_alarm_probability([0.3, 0.9], -1.0) == 1.0
+    with pytest.raises(MeshError, match="finite"):
+        M.weighted_false_alarm_probability([np.nan, 1.0], 0.5)
+
+
+@pytest.mark.parametrize("n", [83, 600])
+def test_weighted_false_alarm_probability_bounds_random_codewords(n):
+    """The null of copy tracing: a random codeword against fixed soft reads (Laplacian-like margins
+    (c1 - c2) / (c1 + c2)). 400,000 random sign vectors: the tail at the levels where the bound says
+    1e-2 and 1e-3 is not above it (beyond 4 binomial sigma), and for 83 terms (exact sum) within
+    15 % of it; for 600 (the Chernoff bound) within a factor 30."""
+    rng = np.random.default_rng(7)
+    c = rng.poisson(12, (2, n))
+    a = np.abs(c[0] - c[1]) / np.maximum(c[0] + c[1], 1)
+    T = np.concatenate([(2.0 * rng.integers(0, 2, (50_000, n), dtype=np.int8) - 1) @ a for _ in range(8)])
+    for level in (1e-2, 1e-3):
+        lo, hi = 0.0, float(a.sum())
+        for _ in range(40):  # the score where the bound crosses the level
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if M.weighted_false_alarm_probability(a, mid) > level else (lo, mid)
+        bound, emp = M.weighted_false_alarm_probability(a, hi), np.mean(T >= hi)
+        assert emp <= bound + 4 * np.sqrt(bound / T.size)
+        assert bound <= (1.15 if n <= 512 else 30) * emp + 4 * np.sqrt(bound / T.size)

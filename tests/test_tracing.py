@@ -9,7 +9,7 @@ import pytest
 
 import meshmark
 from meshmark import MeshError
-from meshmark.metrics import false_alarm_probability
+from meshmark.metrics import false_alarm_probability, weighted_false_alarm_probability
 from meshmark.watermark import tracing
 
 from conftest import shared_mesh
@@ -103,3 +103,67 @@ def test_cli_issue_trace(fandisk, tmp_path):
     assert "none" in run("trace", src, "--registry", reg).stdout
     bad = run("issue", src, str(out), "--copies", "2", "--ids", str(ids), "--key", "owner", "--registry", reg)
     assert bad.returncode == 2 and "exactly one of --copies" in bad.stderr
+
+
+def test_the_soft_correlation_names_a_copy_with_many_weak_wrong_bits_and_no_other(fandisk, tmp_path, monkeypatch):
+    """A read as a pose leaves it (the Knight's frames, docs/blender.md): 30 % of the bits wrong,
+    each with a small margin (0.05), the rest at 0.6. The bit count cannot certify copy 0002 among
+    4 (p = 4 P(Bin(C, 1/2) >= 0.7 C) > 1e-6); the soft correlation does, with p = 4 times the weighted
+    tail; the same read of a codeword never issued names no copy."""
+    from meshmark.watermark import framework
+    reg = tmp_path / "r.sqlite"
+    tracing.issue(fandisk, key="owner", registry=reg, n_copies=4)
+    with tracing.Registry(reg, create=False) as db:
+        (asset_id, _, C), = db.assets()
+        cids, W = db.codewords(asset_id, C)
+    rng = np.random.default_rng(3)
+    wrong = rng.permutation(C)[: 3 * C // 10]
+    for cw, expect in ((W[1], "0002"), (rng.integers(0, 2, C).astype(np.uint8), None)):
+        bits = cw.astype(np.uint8).copy()
+        bits[wrong] ^= 1
+        soft = np.where(bits == 1, 1.0, -1.0) * np.where(np.isin(np.arange(C), wrong), 0.05, 0.6)
+        monkeypatch.setattr(framework, "read_soft", lambda mesh, kf, key: (bits, soft))
+        r = tracing.trace(fandisk, registry=reg)
+        assert r["copy"] == expect and r["detected"] == (expect is not None)
+        if expect:
+            assert r["matches"] == C - 3 * C // 10 and 4 * false_alarm_probability(r["matches"], C) > 1e-6
+            assert r["p_false_alarm"] == pytest.approx(
+                4 * weighted_false_alarm_probability(soft, r["blind"]["score"]), rel=1e-12) and r["p_false_alarm"] < 1e-6
+        else:
+            assert r["p_false_alarm"] > 1e-5  # below with probability <= 1e-5 (the codewords are drawn afresh)
+
+
+def test_copies_of_another_key_and_noisy_originals_name_no_copy(fandisk, tmp_path):
+    """The false alarm with the soft read: the copies of the same mesh issued under another key (another
+    registry), and the original under noise, traced against the owner's 6 copies: no copy named."""
+    from meshmark import attacks
+    reg = tmp_path / "r.sqlite"
+    tracing.issue(fandisk, key="owner", registry=reg, n_copies=6)
+    other = tracing.issue(fandisk, key="thief", registry=tmp_path / "t.sqlite", n_copies=3)
+    suspects = [V for _, V in other] + [attacks.noise(fandisk.V, fandisk.F, strength=2e-4, seed=s).V for s in (1, 2)]
+    for V in suspects:  # (each p < 1e-5 with probability <= 1e-5: the codewords are drawn afresh)
+        r = tracing.trace(V, fandisk.F, registry=reg)
+        assert (r["detected"], r["copy"]) == (False, None) and r["p_false_alarm"] > 1e-5
+
+
+def test_a_read_the_range_search_spoils_is_read_again_at_the_recorded_range(fandisk, tmp_path, monkeypatch):
+    """The Knight's frames where the histogram's range search was fooled by the pose (t = 0.95: 41 of 83
+    bits): trace also reads at the recorded range and names the copy from that read, with Bonferroni
+    over the 2 distinct reads (p = 2 x 4 x the weighted tail); when both reads agree, n_reads is 1."""
+    from meshmark.watermark import framework
+    reg = tmp_path / "r.sqlite"
+    V = tracing.issue(fandisk, key="owner", registry=reg, n_copies=4)[2][1]
+    with tracing.Registry(reg, create=False) as db:
+        (asset_id, setup, C), = db.assets()
+        cids, W = db.codewords(asset_id, C)
+    assert setup["side_info"]["range_search"] is True
+    assert tracing.trace(V, fandisk.F, registry=reg)["blind"]["n_reads"] == 1
+    rng = np.random.default_rng(4)
+    junk = rng.integers(0, 2, C).astype(np.uint8)
+    good = W[2].astype(np.uint8)
+    fake = lambda mesh, kf, key: (lambda b: (b, np.where(b == 1, 0.5, -0.5)))(
+        junk if kf.side_info["range_search"] else good)
+    monkeypatch.setattr(framework, "read_soft", fake)
+    r = tracing.trace(V, fandisk.F, registry=reg)
+    assert (r["copy"], r["blind"]["read"], r["blind"]["n_reads"]) == ("0003", "recorded", 2)
+    assert r["p_false_alarm"] == pytest.approx(8 * weighted_false_alarm_probability(np.full(C, 0.5), 0.5 * C), rel=1e-12)

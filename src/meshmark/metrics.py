@@ -20,7 +20,10 @@ Watermark measures compare an embedded bit sequence ``w`` with an extracted one 
   (equal to C when both sequences have zero mean);
 * :func:`cdr` — correct detection rate, the fraction of bits that agree; :func:`bit_error_rate` = 1 - CDR;
 * :func:`false_alarm_probability` — P(X >= matches), X ~ Binomial(n, 1/2): the chance that a random
-  sequence agrees with ``w`` on at least as many bits. The detection decision uses it.
+  sequence agrees with ``w`` on at least as many bits. The detection decision uses it;
+* :func:`weighted_false_alarm_probability` — P(sum_i e_i a_i >= score) for independent fair signs e_i:
+  the chance that a random codeword correlates with soft reliabilities ``a`` at least as well
+  (copy tracing uses it).
 
 See ``docs/metrics.md`` for the conventions (sample counts, what "relative" means, degenerate faces).
 """
@@ -96,6 +99,49 @@ def false_alarm_probability(matches: int, n: int) -> float:
         return 1.0
     tail = sum(math.comb(n, k) for k in range(matches, n + 1))
     return float(tail / (1 << n)) if n < 1000 else math.exp(math.log(tail) - n * math.log(2))
+
+
+_DP_MAX_TERMS = 512       # the exact sum for up to this many terms (else the Chernoff bound)
+_DP_RESOLUTION = 16_384  # the weights rounded so that they sum to about this many units
+
+
+def weighted_false_alarm_probability(weights: ArrayLike, score: float) -> float:
+    """An upper bound of P(sum_i e_i |a_i| >= score), e_i independent fair signs (+-1), ``a`` = ``weights``.
+
+    A random codeword c (independent of a soft read ``s``) has the correlation sum_i (2 c_i - 1) s_i,
+    distributed as above whatever ``s`` is. Computed exactly after rounding: with b_i = rint(Q |a_i|)
+    and r_i = Q |a_i| - b_i, sum e_i |a_i| >= score implies sum e_i b_i >= Q score - sum |r_i|, whose
+    probability is summed over the distribution of sum e_i b_i (Q puts sum b_i near 16,384; the
+    rounding costs at most sum |r_i| / Q <= n / 2Q of score). For more than 512 terms, the Chernoff
+    bound min_t exp(-t score) prod_i cosh(t a_i). All weights equal to 1 give the binomial tail of
+    :func:`false_alarm_probability` (up to the rounding); weights 0 count as no evidence."""
+    a = np.abs(np.asarray(weights, np.float64)).ravel()
+    if not np.all(np.isfinite(a)) or not math.isfinite(score):
+        raise MeshError("weights and score must be finite")
+    total = float(a.sum())
+    if score <= 0 or total == 0:
+        return 1.0
+    if a.size > _DP_MAX_TERMS:
+        from scipy.optimize import minimize_scalar
+        log_b = lambda t: float(np.sum(np.logaddexp(t * a, -t * a) - math.log(2)) - t * score)
+        r = minimize_scalar(log_b, bounds=(0.0, 1e3 * a.size / total), method="bounded")
+        return float(min(1.0, math.exp(min(0.0, r.fun))))
+    q = _DP_RESOLUTION / total
+    b = np.rint(q * a)
+    slack = float(np.abs(q * a - b).sum())
+    b = b[b > 0].astype(np.int64)
+    tot = int(b.sum())
+    p = np.zeros(2 * tot + 1)  # p[v + tot] = P(sum e_i b_i = v)
+    p[tot] = 1.0
+    nxt = np.empty_like(p)
+    for bi in b:  # one pass per term (carriers, not vertices)
+        nxt[:bi] = 0.0
+        nxt[bi:] = p[:-bi]
+        nxt[:-bi] += p[bi:]
+        nxt *= 0.5
+        p, nxt = nxt, p
+    k = math.ceil(q * score - slack) + tot
+    return 1.0 if k <= 0 else (0.0 if k > 2 * tot else float(min(1.0, p[k:].sum())))
 
 
 # --- distortion metrics ------------------------------------------------------------------------------

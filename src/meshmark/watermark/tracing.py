@@ -3,17 +3,22 @@
 :func:`issue` marks N copies of a mesh, each with its own random codeword of C bits (one per carrier,
 whitened and placed with the owner's key exactly as a payload is), all with the same parameters and
 the original's side information, and records them in a registry (:class:`Registry`, one SQLite file).
-:func:`trace` reads the carriers of a suspect mesh and correlates the bits with every codeword issued:
-the best copy j has m_j matching bits out of C; for an unmarked mesh (or another asset) each
-codeword matches like a fair coin, so the false-alarm probability, corrected for the N codewords
-compared (Bonferroni), is::
+:func:`trace` reads the carriers of a suspect mesh with their signed reliabilities s (the method's
+soft read; Laplacian: a pair's count margin over its size) and correlates them with every codeword
+issued: copy j scores T_j = sum_i (2 c_ji - 1) s_i (its matching bits m_j are reported too). For an
+unmarked mesh (or another asset) each codeword's bits are fair coins independent of s, so T_j is
+distributed as sum_i e_i |s_i| with fair signs e_i, whatever the mesh; the false-alarm probability,
+corrected for the N codewords compared (Bonferroni), is::
 
-    p_false_alarm = min(1, N * P(Bin(C, 1/2) >= m_best))
+    p_false_alarm = min(1, N * P(sum_i e_i |s_i| >= T_best))      (metrics.weighted_false_alarm_probability)
 
 and a copy is named only when ``p_false_alarm < 1e-6`` (else ``copy`` is None: "none"). The same bound
 holds for naming a *wrong* copy when the suspect is copy i (the other codewords are independent of
-copy i's). With C carriers read perfectly, ``N 2^-C < 1e-6`` needs C >= 27 for N = 100 (26 carriers
-rank the right copy first among 100 but certify only 100 * 2^-26 = 1.5e-6).
+copy i's and of s). Weighting by reliability lets the many bits a pose flips with a small margin
+count little (the posed Knight, docs/blender.md). A Laplacian read is also made at the recorded
+histogram range (:func:`_reads`) and p multiplied by the number of distinct reads. With C carriers
+read perfectly and none at a tie (s_i = 0), p is about N 2^-C as for the bit count: C >= 27 for
+N = 100 (26 carriers rank the right copy first among 100 but certify only 100 * 2^-26 = 1.5e-6).
 
 The registry (:class:`Registry`, :mod:`.registry`: schema, checks, locking) holds one row per
 asset (the original's digest and its setup: method, parameters, carriers, side information, the
@@ -30,6 +35,7 @@ the two tests are combined by Bonferroni: ``p = min(1, 2 min(p_blind, p_informed
 """
 from __future__ import annotations
 
+import dataclasses
 import hmac
 import os
 import secrets
@@ -38,7 +44,7 @@ import numpy as np
 
 from .._core import MeshError
 from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
-from ..metrics import false_alarm_probability
+from ..metrics import weighted_false_alarm_probability
 from . import informed as _informed
 from . import keys as _keys
 from .framework import DETECTION_THRESHOLD, MAX_ROUNDS, MIN_CARRIERS, _weld, embed_channel
@@ -252,6 +258,20 @@ def set_paths(registry: PathLike | Registry, paths: dict, asset_id: int | None =
             reg.close()
 
 
+def _reads(mesh: Mesh, kf: Keyfile, key: str, read_soft) -> list:
+    """The distinct reads (bits, soft) of the carriers: as the method reads them (the Laplacian searches
+    the histogram's range, undoing a uniform scale) and, when the asset's side information has that
+    search on, also at the recorded range: a pose can fool the search (the Knight: t = 0.95 read 41 of
+    83 bits, the recorded range 72). Each read is a function of the suspect alone, so the false alarm
+    is bounded by Bonferroni over the distinct reads (1 when both agree, the usual case)."""
+    reads = [read_soft(mesh, kf, key)]
+    if kf.side_info.get("range_search", False):
+        b, s = read_soft(mesh, dataclasses.replace(kf, side_info={**kf.side_info, "range_search": False}), key)
+        if not (np.array_equal(b, reads[0][0]) and np.array_equal(s, reads[0][1])):
+            reads.append((b, s))
+    return reads
+
+
 def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, key: str | int | None = None,
           original: Mesh | PathLike | None = None) -> dict:
     """Which issued copy is this mesh? Returns a dict with ``detected``, ``copy`` (id or None),
@@ -286,26 +306,29 @@ def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, ke
         elif any(a[1].get("key") is None for a in assets):
             raise MeshError("the registry does not store the key: give --key")
         n_total = sum(reg.n_copies(a[0]) for a in assets)
-        best, best_inf, originals = None, None, []
+        best, best_inf, originals, n_reads = None, None, [], 1
         for asset_id, setup, C in assets:
             k = key if key is not None else setup["key"]
             from .framework import _prepare, read_soft
             kf = _setup_keyfile(setup, k)
             mesh, _, _, _ = _prepare(mesh0, kf)
-            bits, soft = read_soft(mesh, kf, k)
             cids, W = reg.codewords(asset_id, C)
             if not cids:
                 continue
-            b = bits.astype(np.int32)
+            reads = _reads(mesh, kf, k, read_soft)
+            n_reads = max(n_reads, len(reads))
             Wi = W.astype(np.int32)
-            matches = C - int(b.sum()) - Wi.sum(1) + 2 * (Wi @ b)
-            score = (2.0 * W - 1.0) @ soft  # soft correlation breaks ties
-            j = int(np.lexsort((-score, -matches))[0])
-            second = int(np.partition(matches, -2)[-2]) if len(cids) > 1 else 0
-            cand = {"asset_id": asset_id, "copy_id": cids[j], "matches": int(matches[j]), "n_carriers": int(C),
-                    "second_matches": second}
-            if best is None or false_alarm_probability(cand["matches"], C) < false_alarm_probability(best["matches"], best["n_carriers"]):
-                best = cand
+            for r, (bits, soft) in enumerate(reads):
+                b = bits.astype(np.int32)
+                matches = C - int(b.sum()) - Wi.sum(1) + 2 * (Wi @ b)
+                score = (2.0 * W - 1.0) @ soft  # the soft correlation; matches break ties
+                j = int(np.lexsort((-matches, -score))[0])
+                second = int(np.partition(matches, -2)[-2]) if len(cids) > 1 else 0
+                cand = {"asset_id": asset_id, "copy_id": cids[j], "matches": int(matches[j]), "n_carriers": int(C),
+                        "second_matches": second, "score": float(score[j]), "read": ("searched", "recorded")[r],
+                        "tail": weighted_false_alarm_probability(soft, float(score[j]))}
+                if best is None or cand["tail"] < best["tail"]:
+                    best = cand
             orig, info = _informed.find_original(reg, asset_id, setup, given)
             originals.append(info)
             if orig is not None:
@@ -325,9 +348,10 @@ def trace(V: MeshLike, F: FacesLike = None, *, registry: PathLike | Registry, ke
             return {"detected": False, "copy": None, "p_false_alarm": 1.0, "evidence": "blind", "matches": None,
                     "n_carriers": None, "n_copies": n_total, "asset_id": None, "second_matches": None,
                     "blind": None, "informed": None, "originals": originals}
-        p_blind = min(1.0, n_total * false_alarm_probability(best["matches"], best["n_carriers"]))
+        p_blind = min(1.0, n_reads * n_total * best["tail"])  # Bonferroni over codewords and distinct reads
         blind = {"copy": best["copy_id"], "asset_id": best["asset_id"], "p_false_alarm": p_blind,
-                 "matches": best["matches"], "n_carriers": best["n_carriers"]}
+                 "matches": best["matches"], "n_carriers": best["n_carriers"], "score": best["score"],
+                 "read": best["read"], "n_reads": n_reads}
         informed = None
         winner, p = blind, p_blind
         if best_inf is not None:
