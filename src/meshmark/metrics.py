@@ -106,7 +106,9 @@ _DP_RESOLUTION = 16_384  # the weights rounded so that they sum to about this ma
 
 
 def weighted_false_alarm_probability(weights: ArrayLike, score: float) -> float:
-    """An upper bound of P(sum_i e_i |a_i| >= score), e_i independent fair signs (+-1), ``a`` = ``weights``.
+    """An upper bound of P(sum_i e_i |a_i| >= score), e_i independent fair signs (+-1), ``a`` = ``weights``
+    ((n,) float, one reliability per carrier, unitless; ``score`` in the same units). Returns a
+    probability in [0, 1].
 
     A random codeword c (independent of a soft read ``s``) has the correlation sum_i (2 c_i - 1) s_i,
     distributed as above whatever ``s`` is. Computed exactly after rounding: with b_i = rint(Q |a_i|)
