@@ -36,9 +36,9 @@ def main():
         with tracing.Registry(reg_path) as reg:
             (asset_id, setup, C), = reg.assets()
             nb = (C + 7) // 8
-            reg.db.executemany("INSERT INTO copies(copy_id, asset_id, codeword) VALUES (?, ?, ?)",
-                               [(f"r{i:06d}", asset_id, secrets.token_bytes(nb)) for i in range(a.copies - 1)])
-            reg.db.commit()
+            reg.begin()  # rows with their checks, as issue records them
+            reg.add_copies(asset_id, [(f"r{i:06d}", secrets.token_bytes(nb), None) for i in range(a.copies - 1)])
+            reg.commit()
         kf = tracing._setup_keyfile(setup, setup["key"])
         suspect = m.with_vertices(V)
 
