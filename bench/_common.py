@@ -83,3 +83,10 @@ def fmt(w: dict, c: dict | None = None, unit: str = "s", scale: float = 1.0) -> 
     """'best B (median M) s wall[, best b (median m) s CPU]' from :func:`timings`."""
     s = f"best {w['best'] * scale:.3g} (median {w['median'] * scale:.3g}) {unit} wall"
     return s + (f", best {c['best'] * scale:.3g} (median {c['median'] * scale:.3g}) {unit} CPU" if c else "")
+
+
+def random_codeword(n_bits: int) -> bytes:
+    """A random codeword of ``n_bits`` packed as the registry stores it (padding bits zero)."""
+    import secrets
+    bits = np.unpackbits(np.frombuffer(secrets.token_bytes((n_bits + 7) // 8), np.uint8))[:n_bits]
+    return np.packbits(bits).tobytes()

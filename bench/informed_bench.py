@@ -23,7 +23,6 @@ process: both threads of 2 count, so on a shared machine it is the figure the ot
 """
 import argparse
 import os
-import secrets
 import sys
 import tempfile
 
@@ -36,7 +35,7 @@ import meshmark  # noqa: E402
 from meshmark import _core, attacks  # noqa: E402
 from meshmark.watermark import informed, tracing  # noqa: E402
 
-from _common import SHARED, best_of, fmt, timings  # noqa: E402
+from _common import SHARED, best_of, fmt, random_codeword, timings  # noqa: E402
 
 
 def asset(n_target):
@@ -141,7 +140,7 @@ def bench_1m(copies, repeat):
     with tracing.Registry(reg) as R:
         (asset_id, _, C), = R.assets()
         R.begin()
-        R.add_copies(asset_id, [(f"x{i:04d}", secrets.token_bytes((C + 7) // 8), None) for i in range(copies - n_real)])
+        R.add_copies(asset_id, [(f"x{i:04d}", random_codeword(C), None) for i in range(copies - n_real)])
         R.commit()
         print(f"  registry: {R.n_copies(asset_id)} copies ({n_real} issued)", flush=True)
     cid, V = out[1]
