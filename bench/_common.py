@@ -64,3 +64,29 @@ def big_elephant(min_vertices: int = 1_000_000, min_faces: int = 0) -> meshmark.
     while len(V) < min_vertices or len(F) < min_faces:
         V, F = midpoint_subdivide(V, F)
     return meshmark.Mesh(V, F)
+
+
+def timings(fn, repeat: int = 3):
+    """Run ``fn`` ``repeat`` times: ({"best", "median"} wall s, {"best", "median"} CPU s of this process,
+    the last result). On a shared machine report both; the CPU time counts both threads of 2."""
+    walls, cpus, out = [], [], None
+    for _ in range(repeat):
+        t, c = time.perf_counter(), time.process_time()
+        out = fn()
+        walls.append(time.perf_counter() - t)
+        cpus.append(time.process_time() - c)
+    stat = lambda x: {"best": float(np.min(x)), "median": float(np.median(x)), "all": [float(v) for v in x]}
+    return stat(walls), stat(cpus), out
+
+
+def fmt(w: dict, c: dict | None = None, unit: str = "s", scale: float = 1.0) -> str:
+    """'best B (median M) s wall[, best b (median m) s CPU]' from :func:`timings`."""
+    s = f"best {w['best'] * scale:.3g} (median {w['median'] * scale:.3g}) {unit} wall"
+    return s + (f", best {c['best'] * scale:.3g} (median {c['median'] * scale:.3g}) {unit} CPU" if c else "")
+
+
+def random_codeword(n_bits: int) -> bytes:
+    """A random codeword of ``n_bits`` packed as the registry stores it (padding bits zero)."""
+    import secrets
+    bits = np.unpackbits(np.frombuffer(secrets.token_bytes((n_bits + 7) // 8), np.uint8))[:n_bits]
+    return np.packbits(bits).tobytes()

@@ -10,7 +10,6 @@ difference (target: <= 50 ms at 10,000 copies).
 """
 import argparse
 import os
-import secrets
 import sys
 import tempfile
 
@@ -22,7 +21,7 @@ sys.path.insert(0, HERE)
 import meshmark  # noqa: E402
 from meshmark.watermark import framework, tracing  # noqa: E402
 
-from _common import SHARED, best_of  # noqa: E402
+from _common import SHARED, best_of, random_codeword  # noqa: E402
 
 
 def main():
@@ -35,10 +34,9 @@ def main():
         (cid, V), = tracing.issue(m, key="studio", registry=reg_path, n_copies=1)
         with tracing.Registry(reg_path) as reg:
             (asset_id, setup, C), = reg.assets()
-            nb = (C + 7) // 8
-            reg.db.executemany("INSERT INTO copies(copy_id, asset_id, codeword) VALUES (?, ?, ?)",
-                               [(f"r{i:06d}", asset_id, secrets.token_bytes(nb)) for i in range(a.copies - 1)])
-            reg.db.commit()
+            reg.begin()  # rows with their checks, as issue records them
+            reg.add_copies(asset_id, [(f"r{i:06d}", random_codeword(C), None) for i in range(a.copies - 1)])
+            reg.commit()
         kf = tracing._setup_keyfile(setup, setup["key"])
         suspect = m.with_vertices(V)
 

@@ -42,6 +42,7 @@ RUNS = {
     "coding_curve.py": Q + "::test_coding_curve_quick",
     "coding_frame_ml.py": Q + "::test_coding_frame_ml_quick",
     "deformation_table.py": Q + "::test_deformation_table",
+    "distortion_budget.py": Q + "::test_distortion_budget_quick",
     "informed_design_study.py": Q + "::test_informed_design_study_quick",
     "informed_tracing.py": "tests/test_informed.py::test_evaluation_quick_mode",
     "knight_parts.py": B + "::test_knight_parts_quick",

@@ -409,3 +409,19 @@ def test_steganalysis_unseen_quick(tmp_path):
         assert abs(r["balanced_accuracy"] - 0.5 * (1 - r["fpr"] + r["tpr"])) < 1e-9
     assert loose["fpr"] >= strict["fpr"] and loose["tpr"] >= strict["tpr"] and loose["auc"] == strict["auc"]
     assert set(strict["tpr_by_method"]) >= {"laplacian", "radial", "cho-mean", "cho-variance", "lsb-5deg", "chao"}
+
+
+def test_distortion_budget_quick(tmp_path):
+    out = run("distortion_budget.py", "--quick", "--out", tmp_path)
+    got = rows(tmp_path / "copies.csv")
+    assert [r["kind"] for r in got] == ["default"] * 3 + ["blind only"]
+    assert all(r["mesh"] == "odedstein_cat-low-resolution" and r["n_vertices"] == "7949" for r in got)
+    for r in got:
+        rmse, hd, nd = float(r["rmse"]), float(r["hausdorff"]), float(r["normal_deg"])
+        assert 0 < rmse < hd < 0.01 and 0 < nd < 2, r
+    for r in got[:3]:  # the pattern alone is 6e-5 of the diagonal; the blind mark adds to it
+        assert 6e-5 <= float(r["rmse"]) < 2e-4, r
+    n_ok = sum(float(r["rmse"]) <= 1e-4 and float(r["hausdorff"]) <= 5e-4 and float(r["normal_deg"]) <= 0.25
+               for r in got[:3])
+    assert f"| odedstein_cat-low-resolution | 7,949 | 3 |" in out and f"| {n_ok}/3 |" in out
+    assert f"Default copies within all three limits: {n_ok} of 3" in out
