@@ -167,3 +167,21 @@ def test_a_read_the_range_search_spoils_is_read_again_at_the_recorded_range(fand
     r = tracing.trace(V, fandisk.F, registry=reg)
     assert (r["copy"], r["blind"]["read"], r["blind"]["n_reads"]) == ("0003", "recorded", 2)
     assert r["p_false_alarm"] == pytest.approx(8 * weighted_false_alarm_probability(np.full(C, 0.5), 0.5 * C), rel=1e-12)
+
+
+def test_a_pair_emptied_by_the_informed_pattern_and_its_neighbours_is_written(tmp_path, monkeypatch):
+    """vhacd_cup with these codewords failed at copy 0022 (exit 2, "a carrier bit did not take after 4
+    rounds"): its pair 214 (5 lengths on the original, n_thr = 5) kept 2 under the copy's informed
+    pattern, the other carriers' moves pushed both out, and an empty pair reads +1 with nothing to move
+    for -1. The embedding now lends it the nearest length from outside the carrier pairs
+    (laplacian._recruit): every copy is issued and traces to itself."""
+    cup = meshmark.read_mesh(shared_mesh("corpus/vhacd_cup.off"))
+    g = np.random.default_rng(3)
+    monkeypatch.setattr(tracing.secrets, "token_bytes", lambda n: g.bytes(n))
+    reg = tmp_path / "r.sqlite"
+    copies = tracing.issue(cup, key="k", registry=reg, n_copies=22)
+    assert [c for c, _ in copies] == [f"{i:04d}" for i in range(1, 23)]
+    for cid, V in copies:  # 0022 is the copy that used to fail
+        r = tracing.trace(V, cup.F, registry=reg, original=cup)
+        assert (r["detected"], r["copy"]) == (True, cid) and r["p_false_alarm"] < 1e-6
+        assert r["blind"]["copy"] == cid and r["blind"]["matches"] == r["blind"]["n_carriers"] == 99

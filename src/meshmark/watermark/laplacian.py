@@ -187,6 +187,8 @@ class _Laplacian:
     def embed(self, mesh: Mesh, p: dict, side: dict, ids, bits):
         E, bins, counts, scale = self._histogram(mesh, p, side)
         pm = np.where(np.asarray(bits) > 0, 1, -1)
+        if not p["thesis_exact"]:
+            bins, counts = _recruit(self._lengths(mesh, p)[1], bins, counts, side, p["K"], ids, pm)
         V, _, n_moved, rounds, iters = _core.laplacian_embed(
             mesh.V, E, bins, counts, side["lo"], side["hi"], [int(i) for i in ids], pm.tolist(), p["n_robust"],
             p["eps"], p["thesis_exact"], scale, SOLVERS[p.get("solver", "iterative")], MAX_SOLVE_ROUNDS,
@@ -218,6 +220,36 @@ class _Laplacian:
         # signed reliability: the pair's count margin relative to its size (> 0: bit 1)
         soft = (c1 - c2) / np.maximum(c1 + c2, 1)
         return bits, soft
+
+
+def _recruit(d: np.ndarray, bins: np.ndarray, counts: np.ndarray, side: dict, K: int, ids, pm: np.ndarray):
+    """(bins, counts) with one element lent to every carrier pair that is empty and must read -1.
+
+    An empty pair reads +1 (|B_k1| >= |B_k2| at 0 = 0, eq. 7.1.10) and the selection (eqs.
+    7.2.13-7.2.16) has nothing to move, so -1 could never be written: this happens to a copy of
+    ``tracing.issue`` whose informed pattern and neighbouring carriers push a small pair's few
+    lengths out of it. The referenced element nearest (in carrier value) to the centre of B_k2, outside
+    the pairs being embedded, is counted in B_k1; the selection then moves it to B_k2 (its centre,
+    eq. 7.2.15 with an empty winning bin)."""
+    ids = np.asarray(ids, np.int64)
+    j = ids[(pm < 0) & (counts[2 * ids + 1] + counts[2 * ids + 2] == 0)]
+    if j.size == 0:
+        return bins, counts
+    bins, counts = np.array(bins), np.array(counts)
+    busy = np.zeros(K, bool)
+    busy[2 * ids + 1] = busy[2 * ids + 2] = True
+    free = np.flatnonzero((bins >= 0) & ~busy[bins])
+    delta = (side["hi"] - side["lo"]) / K
+    for k in j:  # the few empty pairs only
+        if free.size == 0:
+            break
+        centre = side["lo"] + delta * (2 * k + 2.5)
+        i = int(np.argmin(np.abs(d[free] - centre)))
+        v = free[i]
+        counts[bins[v]] -= 1
+        bins[v], counts[2 * k + 1] = 2 * k + 1, counts[2 * k + 1] + 1
+        free = np.delete(free, i)
+    return bins, counts
 
 
 def _pair_counts(d_sorted: np.ndarray, lo: float, hi: float, K: int, ids: np.ndarray):
