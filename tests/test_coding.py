@@ -206,9 +206,17 @@ def test_auto_falls_back_when_the_mark_does_not_take(monkeypatch):
     the coded bits of a 4-byte text under the K = 7 convolutional scheme ("does not take"; whether a
     mark takes depends on the bits, and under the K = 9 scheme this text happens to take); the automatic
     choice then falls back to the published carrier, records it, and the text reads back. Explicit
-    parameters never fall back."""
+    parameters never fall back. Lending empty pairs an element (``laplacian._recruit``) now makes the
+    local carrier take here, so the fallback is shown with that step switched off; with it on, the
+    default carrier takes and the text reads back."""
     monkeypatch.setattr(coding, "scheme_for", lambda n: coding.TBCC)
     m = meshmark.read_mesh(shared_mesh("corpus/vtk_trumpet.obj"))
+    r = embed(m, payload="ACME", key="k")
+    assert r.keyfile.params["carrier"] == "local" and "fallback" not in r.keyfile.choice
+    x = extract(r.V, m, keyfile=r.keyfile)
+    assert x.detected and x.cdr == 1.0 and x.message == "ACME"
+    from meshmark.watermark import laplacian
+    monkeypatch.setattr(laplacian, "_recruit", lambda d, bins, counts, *a: (bins, counts))
     r = embed(m, payload="ACME", key="k")
     assert r.keyfile.params["carrier"] == "thesis" and r.keyfile.choice["fallback"] == {"carrier": "thesis"}
     assert r.keyfile.choice["fallback_from"] == 2 and r.capacity >= coding.min_carriers(32)
