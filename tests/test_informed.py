@@ -72,6 +72,22 @@ def test_closest_points_match_ckdtree_on_vertices_and_are_exact(cat):
     assert np.allclose(np.sqrt(d2), _core.point_mesh_distance(P, cat.V, T)[0], atol=1e-12)
 
 
+def test_a_tree_built_once_gives_the_same_closest_points_and_alignment(cat):
+    T = np.ascontiguousarray(informed._tri(cat), np.int32)
+    tree = _core.TriangleTree(cat.V, T)
+    assert tree.size == len(T)
+    rng = np.random.default_rng(1)
+    P = np.ascontiguousarray(cat.V[rng.choice(cat.n_vertices, 300, replace=False)] * 1.1 + 0.01)
+    for a, b in zip(_core.closest_points(P, cat.V, T), _core.closest_points(P, tree)):
+        assert np.array_equal(a, b)
+    shifted = np.eye(4)
+    shifted[:3, :3] = informed.proper_axis_rotations()[1]
+    starts = [np.eye(4), shifted]
+    r1 = _core.align_similarity(P, cat.V, T, starts, 3, 5, 0.5, True, top=2, refine=4)
+    r2 = _core.align_similarity(P, tree, starts, 3, 5, 0.5, True, top=2, refine=4)
+    assert np.array_equal(r1[0], r2[0]) and r1[1:] == r2[1:]
+
+
 def _issue(tmp_path, mesh, n=8):
     reg = os.path.join(tmp_path, "r.sqlite")
     return reg, tracing.issue(mesh, key="k", registry=reg, n_copies=n)

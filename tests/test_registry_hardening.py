@@ -252,3 +252,30 @@ def test_two_concurrent_issues_both_get_their_copies(tmp_path):
         assert r["codes"] == [0, 0], r["errors"]
         assert r["ids"] == [f"{i:04d}" for i in range(1, 17)]
         assert r["traced"] == {c: c for c in r["ids"]}
+
+
+def test_issue_gives_up_after_wait_when_another_writer_holds_the_registry(tmp_path):
+    """`issue --wait 1` while another process holds the write lock: exit 2 within a few seconds, a
+    "busy" message, no copy written and the registry as it was; after the lock is gone it issues."""
+    src = shared_mesh(MESH)
+    reg = tmp_path / "r.sqlite"
+    tracing.issue(meshmark.read_mesh(src), key="owner", registry=str(reg), n_copies=1)
+    before = reg.read_bytes()
+    holder = sqlite3.connect(str(reg), isolation_level=None)
+    holder.execute("BEGIN IMMEDIATE")
+    try:
+        t0 = time.monotonic()
+        r = _cli("issue", src, str(tmp_path / "out"), "--copies", "2", "--key", "owner",
+                 "--registry", str(reg), "--wait", "1")
+        took = time.monotonic() - t0
+    finally:
+        holder.execute("ROLLBACK")
+        holder.close()
+    assert r.returncode == 2, r.stderr
+    assert "busy" in r.stderr and "Traceback" not in r.stderr
+    assert took < 30  # the 1 s wait plus a process start-up; the default would wait 600 s
+    assert reg.read_bytes() == before and not list((tmp_path / "out").glob("*.obj"))
+    r = _cli("issue", src, str(tmp_path / "out"), "--copies", "2", "--key", "owner",
+             "--registry", str(reg), "--wait", "1")
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in (tmp_path / "out").glob("*.obj")) == ["cow-0002.obj", "cow-0003.obj"]

@@ -4,7 +4,6 @@ docs/steganalysis.md §3)."""
 import json
 
 import numpy as np
-import pytest
 
 import meshmark
 from meshmark.steganalysis import features as feat
@@ -58,17 +57,43 @@ def test_lfs76_rotation_invariant_components_equal_the_authors_code():
         assert rel.max() <= 1e-6, (name, rel)
 
 
-@pytest.mark.xfail(strict=True, reason="open: on vhacd_eight the components that depend on the x/y principal axes "
-                   "(lap_dx/dy, vertex_normal, sph_az/elev, edge_az) differ from the authors' code with trans'*V by "
-                   "up to 0.14 relative (edge_az:log_skew 0.322 vs -0.0117); the invariant and z components agree "
-                   "to 1e-12 (docs/steganalysis.md §3)")
-def test_lfs76_equals_the_authors_code_with_the_corrected_projection():
-    """With the one-character fix trans' * V in preprocess.m, all 76 components (PCA signs as MATLAB's pca)."""
+def _rounding_spread(name, fset):
+    """(features, largest relative change of each component under rounding-level changes of the input:
+    V * (1 +- 1e-15) and V +- 1e-12)."""
+    m = meshmark.read_mesh(shared_mesh(name))
+    F = feat.features((m.V, m.triangles), fset)
+    spread = np.zeros_like(F)
+    for V in (m.V * (1 + 1e-15), m.V * (1 - 1e-15), m.V + 1e-12, m.V - 1e-12):
+        spread = np.maximum(spread, np.abs(feat.features((V, m.triangles), fset) - F) / np.abs(F))
+    return F, spread
+
+
+def test_lfs76_with_the_corrected_projection_agrees_wherever_the_input_determines_it():
+    """With the one-character fix trans' * V in preprocess.m (PCA signs as MATLAB's pca): every component
+    that the float64 input determines (moves by <= 1e-9 under rounding-level changes of V) equals the
+    authors' code to 1e-6 relative; the components that differ (lap_dx/dy, vertex_normal, sph_az/elev,
+    edge_az on vhacd_eight: up to 1.04 relative) are exactly those that move by >= 1e-5 under
+    V * (1 + 1e-15) themselves (log(|x| + 2^-52) of differences that vanish on flat patches), so no
+    implementation can match them to 1e-6 (docs/steganalysis.md §3)."""
     assert REF["lfs76_fixed_projection"]
     for name, octave in REF["lfs76_fixed_projection"].items():
         octave = np.array(octave)
-        rel = np.abs(_features(name, "lfs76") - octave) / np.abs(octave)
-        assert rel.max() <= 1e-6, (name, feat.feature_names("lfs76")[int(np.argmax(rel))], rel.max())
+        F, spread = _rounding_spread(name, "lfs76")
+        rel = np.abs(F - octave) / np.abs(octave)
+        determined = spread <= 1e-9
+        assert determined.sum() >= 40, (name, int(determined.sum()))
+        assert rel[determined].max() <= 1e-6, (name, rel[determined].max())
+        assert (spread[rel > 1e-6] >= 1e-5).all(), (name, np.flatnonzero(rel > 1e-6), spread[rel > 1e-6])
+
+
+def test_nvt36_differs_from_the_authors_code_only_where_rounding_moves_it():
+    """On the bunny the 15 NVT36 components that differ from the authors' code by more than 1e-6 each move
+    by more than 1e-6 under rounding-level changes of the input (rank-deficient voting tensors)."""
+    octave = np.array(REF["nvt36"]["classic/bunny.obj"])
+    F, spread = _rounding_spread("classic/bunny.obj", "nvt36")
+    rel = np.abs(F - octave) / np.abs(octave)
+    assert (spread[rel > 1e-6] > 1e-6).all(), (np.flatnonzero(rel > 1e-6), spread[rel > 1e-6])
+    assert rel[spread <= 1e-7].max() <= 1e-6
 
 
 def test_published_lfs76_extends_to_open_meshes_and_names():

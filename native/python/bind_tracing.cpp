@@ -7,6 +7,7 @@
 #include "meshmark/keyed_gaussian.h"
 #include "meshmark/lowpass_operator.h"
 #include "meshmark/similarity_icp.h"
+#include "meshmark/triangle_tree.h"
 
 #include <Eigen/LU>
 #include <pybind11/eigen.h>
@@ -49,6 +50,33 @@ void bind_tracing(py::module_& m) {
         }, py::arg("P"), py::arg("V"), py::arg("T"));
   m.def("umeyama", [](VRef P, VRef Q, bool with_scale) { return to4(umeyama(P, Q, with_scale)); },
         py::arg("P"), py::arg("Q"), py::arg("with_scale") = true, Release());
+  py::class_<TriangleTree>(m, "TriangleTree",
+                           "The bounding-box tree of a triangle set (V, T), built once for closest_points and "
+                           "align_similarity")
+      .def(py::init<VRef, TRef>(), py::arg("V"), py::arg("T"), Release())
+      .def_property_readonly("size", &TriangleTree::size);
+  m.def("closest_points", [](VRef P, const TriangleTree& tree) {
+          ClosestPoints r;
+          {
+            py::gil_scoped_release release;
+            r = closest_points(P, tree);
+          }
+          return py::make_tuple(std::move(r.Q), std::move(r.face), std::move(r.bary), std::move(r.d2));
+        }, py::arg("P"), py::arg("tree"));
+  m.def("align_similarity", [](VRef P, const TriangleTree& tree, const std::vector<M4>& starts, int coarse, int fine,
+                               double trim, bool with_scale, double scale_min, double scale_max, int top,
+                               int refine) {
+          std::vector<Similarity> S;
+          for (const auto& A : starts) S.push_back(from4(A));
+          IcpResult r;
+          {
+            py::gil_scoped_release release;
+            r = align_similarity(P, tree, S, coarse, fine, trim, with_scale, scale_min, scale_max, top, refine);
+          }
+          return py::make_tuple(to4(r.T), r.rms, r.kept_fraction, r.iterations, r.start);
+        }, py::arg("P"), py::arg("tree"), py::arg("starts"), py::arg("coarse") = 8, py::arg("fine") = 30,
+        py::arg("trim") = 0.8, py::arg("with_scale") = true, py::arg("scale_min") = 0.0,
+        py::arg("scale_max") = HUGE_VAL, py::arg("top") = 1, py::arg("refine") = 0);
   m.def("align_similarity", [](VRef P, VRef V, TRef T, const std::vector<M4>& starts, int coarse, int fine,
                                double trim, bool with_scale, double scale_min, double scale_max, int top,
                                int refine) {

@@ -8,7 +8,11 @@ namespace meshmark {
 ClosestPoints closest_points(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::Ref<const MatrixX3dR>& V,
                              const Eigen::Ref<const MatrixX3iR>& T) {
   if (T.rows() == 0) throw MeshError("closest points: the mesh has no triangles");
-  const TriangleTree tree(V, T);
+  return closest_points(P, TriangleTree(V, T));
+}
+
+ClosestPoints closest_points(const Eigen::Ref<const MatrixX3dR>& P, const TriangleTree& tree) {
+  if (tree.size() == 0) throw MeshError("closest points: the mesh has no triangles");
   const Eigen::Index m = P.rows();
   ClosestPoints r;
   r.Q.resize(m, 3);

@@ -7,6 +7,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace meshmark {
@@ -135,36 +136,58 @@ IcpResult align_similarity(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::R
                            const Eigen::Ref<const MatrixX3iR>& T, const std::vector<Similarity>& starts,
                            int coarse, int fine, double trim, bool with_scale, double scale_min, double scale_max,
                            int top, int refine) {
+  if (T.rows() == 0) throw MeshError("align: the target has no triangles");
+  const TriangleTree tree(V, T);
+  return align_similarity(P, tree, starts, coarse, fine, trim, with_scale, scale_min, scale_max, top, refine);
+}
+
+namespace {
+
+// body(i, X, Q, d2, tmp) for every i in [0, n), spread over the threads by an atomic counter (the
+// starts differ in cost: a far start's queries visit more of the tree); each thread has its buffers.
+template <class Body>
+void for_each_start(size_t count, Eigen::Index n, Body body) {
+  std::atomic<size_t> next{0};
+  parallel_for(static_cast<std::int64_t>(count), [&](std::int64_t, std::int64_t) {
+    MatrixX3dR X(n, 3), Q(n, 3);
+    Eigen::VectorXd d2(n);
+    std::vector<double> tmp;
+    for (size_t i = next++; i < count; i = next++) body(i, X, Q, d2, tmp);
+  }, 1);
+}
+
+}  // namespace
+
+IcpResult align_similarity(const Eigen::Ref<const MatrixX3dR>& P, const TriangleTree& tree,
+                           const std::vector<Similarity>& starts, int coarse, int fine, double trim, bool with_scale,
+                           double scale_min, double scale_max, int top, int refine) {
   if (starts.empty()) throw MeshError("align: no start transform");
   if (P.rows() < 3) throw MeshError("align: at least 3 points are needed");
-  if (T.rows() == 0) throw MeshError("align: the target has no triangles");
+  if (tree.size() == 0) throw MeshError("align: the target has no triangles");
   if (!(trim > 0 && trim <= 1)) throw MeshError("align: trim must be in (0, 1]");
-  const TriangleTree tree(V, T);
   const Eigen::Index n = P.rows();
-  MatrixX3dR X(n, 3), Q(n, 3);
-  Eigen::VectorXd d2(n);
-  std::vector<double> tmp;
   IcpResult best;
   best.rms = HUGE_VAL;
   // Each step scores the transform it starts from and refits; the score of a start is that of its
   // last coarse step. The `top` best starts then run `refine` more steps; the best of them goes on.
-  std::vector<std::pair<double, Similarity>> scored;
-  for (size_t s = 0; s < starts.size(); ++s) {
+  // The starts (and then the refined ones) are independent: one thread each at a time.
+  std::vector<std::pair<double, Similarity>> scored(starts.size());
+  for_each_start(starts.size(), n, [&](size_t s, MatrixX3dR& X, MatrixX3dR& Q, Eigen::VectorXd& d2,
+                                       std::vector<double>& tmp) {
     Similarity cur = starts[s];
     Step st;
     for (int it = 0; it < std::max(coarse, 1); ++it) {
       st = icp_step(tree, P, cur, trim, with_scale, true, X, Q, d2, tmp);
       clamp_scale(cur, scale_min, scale_max);
     }
-    scored.emplace_back(st.rms, cur);
-    if (st.rms < best.rms) best.start = static_cast<int>(s);
-    best.rms = std::min(best.rms, st.rms);
-  }
+    scored[s] = {st.rms, cur};
+  });
   std::vector<size_t> order(scored.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return scored[a].first < scored[b].first; });
-  best.rms = HUGE_VAL;
-  for (size_t r = 0; r < std::min<size_t>(std::max(top, 1), order.size()); ++r) {
+  const size_t n_top = std::min<size_t>(std::max(top, 1), order.size());
+  std::vector<std::pair<Step, Similarity>> refined(n_top);
+  for_each_start(n_top, n, [&](size_t r, MatrixX3dR& X, MatrixX3dR& Q, Eigen::VectorXd& d2, std::vector<double>& tmp) {
     Similarity cur = scored[order[r]].second;
     Step st;
     st.rms = scored[order[r]].first;
@@ -173,8 +196,13 @@ IcpResult align_similarity(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::R
       st = icp_step(tree, P, cur, trim, with_scale, true, X, Q, d2, tmp);
       clamp_scale(cur, scale_min, scale_max);
     }
+    refined[r] = {st, cur};
+  });
+  best.rms = HUGE_VAL;
+  for (size_t r = 0; r < n_top; ++r) {
+    const Step& st = refined[r].first;
     if (st.rms < best.rms) {
-      best.T = cur;
+      best.T = refined[r].second;
       best.rms = st.rms;
       best.kept_fraction = st.kept;
       best.start = static_cast<int>(order[r]);
@@ -182,13 +210,10 @@ IcpResult align_similarity(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::R
   }
   best.iterations = std::max(coarse, 1) + refine;
   // fine: point-to-plane steps (face normals of the nearest triangles)
-  MatrixX3dR FN(T.rows(), 3), N(n, 3);
-  for (Eigen::Index f = 0; f < T.rows(); ++f) {
-    const Eigen::Vector3d a = V.row(T(f, 0)), b = V.row(T(f, 1)), c = V.row(T(f, 2));
-    const Eigen::Vector3d nf = (b - a).cross(c - a);
-    const double l = nf.norm();
-    FN.row(f) = (l > 0 ? Eigen::Vector3d(nf / l) : Eigen::Vector3d::Zero()).transpose();
-  }
+  MatrixX3dR X(n, 3), Q(n, 3), N(n, 3);
+  Eigen::VectorXd d2(n);
+  std::vector<double> tmp;
+  const MatrixX3dR FN = fine > 0 ? tree.face_normals() : MatrixX3dR(0, 3);
   Similarity cur = best.T;
   double prev = best.rms;
   for (int it = 0; it < fine; ++it) {

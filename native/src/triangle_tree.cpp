@@ -1,5 +1,7 @@
 #include "meshmark/triangle_tree.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -161,6 +163,17 @@ TriangleTree::TriangleTree(const Eigen::Ref<const MatrixX3dR>& V, const Eigen::R
     r.id = f;
     pos_[f] = static_cast<std::int32_t>(i);
   }
+}
+
+MatrixX3dR TriangleTree::face_normals() const {
+  MatrixX3dR FN(size(), 3);
+  for (const Tri& r : tri_) {
+    const Eigen::Vector3d ab(r.ab[0], r.ab[1], r.ab[2]), ac(r.ac[0], r.ac[1], r.ac[2]);
+    const Eigen::Vector3d nf = ab.cross(ac);
+    const double l = nf.norm();
+    FN.row(r.id) = (l > 0 ? Eigen::Vector3d(nf / l) : Eigen::Vector3d::Zero()).transpose();
+  }
+  return FN;
 }
 
 double TriangleTree::face_distance2(Index face, const Eigen::Vector3d& p) const {

@@ -1,6 +1,7 @@
 // meshmark: the nearest surface point of many query points (informed tracing's resampling).
 #pragma once
 #include "meshmark/mesh.h"
+#include "meshmark/triangle_tree.h"
 
 namespace meshmark {
 
@@ -15,5 +16,7 @@ struct ClosestPoints {
 // share one tree). MeshError when T is empty.
 ClosestPoints closest_points(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::Ref<const MatrixX3dR>& V,
                              const Eigen::Ref<const MatrixX3iR>& T);
+// The same on a tree built once.
+ClosestPoints closest_points(const Eigen::Ref<const MatrixX3dR>& P, const TriangleTree& tree);
 
 }  // namespace meshmark

@@ -1,6 +1,7 @@
 // meshmark: similarity registration of a point set to a surface (informed tracing's alignment).
 #pragma once
 #include "meshmark/mesh.h"
+#include "meshmark/triangle_tree.h"
 
 #include <cmath>
 #include <vector>
@@ -38,5 +39,12 @@ IcpResult align_similarity(const Eigen::Ref<const MatrixX3dR>& P, const Eigen::R
                            const Eigen::Ref<const MatrixX3iR>& T, const std::vector<Similarity>& starts,
                            int coarse, int fine, double trim, bool with_scale, double scale_min = 0,
                            double scale_max = HUGE_VAL, int top = 1, int refine = 0);
+
+// The same on a tree built once (the original's, reused by every call of a trace). The starts, and
+// then the `top` refined ones, run on the machine's threads (one start per thread at a time); the
+// result does not depend on the number of threads.
+IcpResult align_similarity(const Eigen::Ref<const MatrixX3dR>& P, const TriangleTree& tree,
+                           const std::vector<Similarity>& starts, int coarse, int fine, double trim, bool with_scale,
+                           double scale_min = 0, double scale_max = HUGE_VAL, int top = 1, int refine = 0);
 
 }  // namespace meshmark

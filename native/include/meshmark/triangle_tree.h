@@ -29,6 +29,10 @@ class TriangleTree {
 
   Eigen::Index size() const { return static_cast<Eigen::Index>(tri_.size()); }
 
+  // (t, 3) unit normals (b - a) x (c - a) / |.| of the triangles, in T's order (zero rows for
+  // degenerate triangles).
+  MatrixX3dR face_normals() const;
+
  private:
   struct Node {
     float lo[3], hi[3];     // box (rounded outwards to float)

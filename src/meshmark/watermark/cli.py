@@ -90,8 +90,10 @@ class _CopyFiles:
               show_default=True)
 @click.option("--params", "params_mode", type=click.Choice(["auto", "thesis"]), default="auto", show_default=True)
 @click.option("--force", is_flag=True, default=False, help="Overwrite existing copy files in OUTDIR.")
+@click.option("--wait", type=click.FloatRange(0, 86_400), default=600, show_default=True,
+              help="Seconds to wait while another issue writes to the same registry, then give up (exit 2).")
 @jsonout.option()
-def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, force, as_json):
+def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, force, wait, as_json):
     """Write marked copies of IN into OUTDIR (IN's format), each with its own codeword, and record
     them in the registry."""
     from ..io import read_mesh
@@ -109,7 +111,8 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
             sink.check(ids)
         os.makedirs(outdir, exist_ok=True)
         out = tracing.issue(mesh, key=key, registry=reg, n_copies=copies, ids=ids, method=method,
-                            params=params_mode, source_name=os.path.basename(inp), original=inp, sink=sink)
+                            params=params_mode, source_name=os.path.basename(inp), original=inp, sink=sink,
+                            wait=wait)
     finally:
         reg.close()
     paths = dict(out)

@@ -29,6 +29,7 @@ from __future__ import annotations
 import hashlib
 import hmac
 import math
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -75,7 +76,8 @@ def check_params(p) -> dict:
 
 class Original:
     """The welded original with what issuing and detection need: triangles, unit normals, diagonal,
-    and the low-pass operator (built on first use)."""
+    and, each built on first use and kept, the low-pass operator, the triangle tree of the alignment
+    and the shape columns of detection."""
 
     def __init__(self, mesh: Mesh, params: dict):
         self.mesh = mesh
@@ -88,13 +90,20 @@ class Original:
         P = self.V[self.ref]
         self.diag = float(np.linalg.norm(P.max(0) - P.min(0)))
         self.edge = float(np.median(np.linalg.norm(self.V[self.T] - self.V[np.roll(self.T, 1, axis=1)], axis=2)))
-        self._op = None
+        self._op = self._tree = self._B = None
 
     @property
     def op(self):
         if self._op is None:
             self._op = _core.LowpassOperator(self.V, self.T, self.params["t"], self.params["power"])
         return self._op
+
+    @property
+    def tree(self):
+        """The bounding-box tree of the original's triangles (every alignment step queries it)."""
+        if self._tree is None:
+            self._tree = _core.TriangleTree(self.V, self.T)
+        return self._tree
 
     def patterns(self, seeds) -> np.ndarray:
         """(n, N) normal displacements of the copies with these seeds, each at the recorded RMSE."""
@@ -115,7 +124,12 @@ class Original:
     def shape_columns(self) -> np.ndarray:
         """(n, 11) normal components the residual is cleaned of: rigid-alignment error (translation 3,
         scale 1, rotation 3) and the shape change of smoothing (uniform umbrella, its square, cotangent
-        umbrella) and of one Loop step (the vertex points), all on the original."""
+        umbrella) and of one Loop step (the vertex points), all on the original (computed once)."""
+        if self._B is None:
+            self._B = self._shape_columns()
+        return self._B
+
+    def _shape_columns(self) -> np.ndarray:
         V, N, T = self.V, self.N, self.T
         c = V[self.ref].mean(0)
         X = V - c
@@ -198,11 +212,26 @@ def align(suspect: Mesh, orig: Original, coarse_points: int = 400, fine_points: 
     Pc = np.ascontiguousarray(S[_subsample(len(S), coarse_points)])
     # rigid at the PCA scale from every start, then with scale, kept within [0.6, 1.6] x the PCA scale
     # (a suspect shrunk onto the surface would otherwise fit it perfectly)
-    A, rms, kept, _, start = _core.align_similarity(Pc, orig.V, orig.T, starts, 3, 0, 0.5, False, top=6, refine=12)
+    A, rms, kept, _, start = _core.align_similarity(Pc, orig.tree, starts, 3, 0, 0.5, False, top=6, refine=12)
     Pf = np.ascontiguousarray(S[_subsample(len(S), fine_points)])
     # the fine stage keeps the best-fitting half: a posed suspect's fit locks onto one rigid part
-    A, rms, kept, _, _ = _core.align_similarity(Pf, orig.V, orig.T, [A], 1, 10, 0.5, True, 0.6 * s0, 1.6 * s0)
+    A, rms, kept, _, _ = _core.align_similarity(Pf, orig.tree, [A], 1, 10, 0.5, True, 0.6 * s0, 1.6 * s0)
     return {"matrix": A, "rms": float(rms), "kept": float(kept), "start": int(start)}
+
+
+def _correspondence(suspect: Mesh, orig: Original, A: np.ndarray):
+    """The suspect's point Q_i (n, 3) matched to each original vertex after the similarity A, its
+    squared distance and ``"identity"`` (the same vertices: when the counts agree and they are still
+    within a quarter of an edge of their originals; a reordered copy's are edges apart, and the
+    nearest points of a noisy surface are biased) or ``"closest-point"``."""
+    Vs = suspect.V @ A[:3, :3].T + A[:3, 3]
+    if suspect.n_vertices == orig.mesh.n_vertices:
+        di = np.linalg.norm(Vs - orig.V, axis=1)[orig.ref]
+        if np.median(di) <= 0.25 * orig.edge:
+            return Vs, (Vs - orig.V) ** 2 @ np.ones(3), "identity"
+    Ts = np.ascontiguousarray(_tri(suspect), np.int32)
+    Q, _, _, d2 = _core.closest_points(orig.V, np.ascontiguousarray(Vs), Ts)
+    return Q, d2, "closest-point"
 
 
 def detect(suspect: Mesh, orig: Original, seeds, return_u: bool = False) -> dict:
@@ -211,19 +240,14 @@ def detect(suspect: Mesh, orig: Original, seeds, return_u: bool = False) -> dict
     Returns ``{"z": (N,) array, "correspondence": "identity" | "closest-point", "n_used": vertices
     used, "alignment_rms": RMS distance / diagonal, "scale": the suspect -> original scale}`` and, with
     ``return_u``, the filtered residual ``"u"`` (n,)."""
-    al = align(suspect, orig)
-    A = al["matrix"]
-    Vs = suspect.V @ A[:3, :3].T + A[:3, 3]
-    Ts = np.ascontiguousarray(_tri(suspect), np.int32)
-    Q, _, _, d2 = _core.closest_points(orig.V, np.ascontiguousarray(Vs), Ts)
-    corr = "closest-point"
-    if suspect.n_vertices == orig.mesh.n_vertices:
-        # the same vertices when they are still within a quarter of an edge of their originals (a
-        # reordered copy's are edges apart); the nearest points of a noisy surface are biased
-        di = np.linalg.norm(Vs - orig.V, axis=1)[orig.ref]
-        if np.median(di) <= 0.25 * orig.edge:
-            Q, d2 = Vs, (Vs - orig.V) ** 2 @ np.ones(3)
-            corr = "identity"
+    # what depends on the original alone (the factorisation of M + t L, the shape columns) is built in
+    # a second thread while the alignment runs (both release the GIL)
+    with ThreadPoolExecutor(1) as pool:
+        prep = pool.submit(lambda: (orig.op, orig.shape_columns()))
+        al = align(suspect, orig)
+        A = al["matrix"]
+        Q, d2, corr = _correspondence(suspect, orig, A)
+        prep.result()
     D = Q - orig.V
     r = (D * orig.N).sum(1)
     dist = np.sqrt(d2)

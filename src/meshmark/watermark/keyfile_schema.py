@@ -258,15 +258,20 @@ def _check_key(d: dict, version: int, bad) -> None:
         bad("field 'key_stored' is false but the keyfile holds a key")
 
 
+def _generic(table: dict, name: str, checks: dict, bad) -> None:
+    """The generic checks of ``table`` (``params`` or ``side_info``) for a method without a schema entry."""
+    for k, check in checks.items():
+        if k in table:
+            why = check(table[k])
+            if why:
+                bad(f"{name}.{k} {why}")
+
+
 def _check_params(d: dict, method: str, bad) -> None:
     p = d["params"]
     spec = METHOD_PARAMS.get(method)
     if spec is None:  # a method registered without a schema entry: the generic checks
-        for k, check in PARAM_CHECKS.items():
-            if k in p:
-                why = check(p[k])
-                if why:
-                    bad(f"params.{k} {why}")
+        _generic(p, "params", PARAM_CHECKS, bad)
         return
     _table(d, "params", spec, method, bad)
     if method == "laplacian":
@@ -284,11 +289,7 @@ def _check_side(d: dict, method: str, bad) -> None:
     spec = METHOD_SIDE.get(method)
     s = d["side_info"]
     if spec is None:
-        for k, check in SIDE_CHECKS.items():
-            if k in s:
-                why = check(s[k])
-                if why:
-                    bad(f"side_info.{k} {why}")
+        _generic(s, "side_info", SIDE_CHECKS, bad)
         return
     _table(d, "side_info", spec, method, bad, extra=("carriers",))
     if "lo" in spec:

@@ -307,6 +307,7 @@ class Registry:
         if self.readonly:
             raise MeshError(f"registry '{shown(self.path)}' was opened read-only")
         deadline = time.monotonic() + wait
+        self.db.execute(f"PRAGMA busy_timeout = {int(1000 * min(wait, BUSY_TIMEOUT))}")  # a short wait stays short
         while True:
             try:
                 self.db.execute("BEGIN IMMEDIATE")
