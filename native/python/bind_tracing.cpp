@@ -63,31 +63,32 @@ void bind_tracing(py::module_& m) {
           }
           return py::make_tuple(std::move(r.Q), std::move(r.face), std::move(r.bary), std::move(r.d2));
         }, py::arg("P"), py::arg("tree"));
-  m.def("align_similarity", [](VRef P, const TriangleTree& tree, const std::vector<M4>& starts, int coarse, int fine,
-                               double trim, bool with_scale, double scale_min, double scale_max, int top,
-                               int refine) {
-          std::vector<Similarity> S;
-          for (const auto& A : starts) S.push_back(from4(A));
-          IcpResult r;
-          {
-            py::gil_scoped_release release;
-            r = align_similarity(P, tree, S, coarse, fine, trim, with_scale, scale_min, scale_max, top, refine);
-          }
-          return py::make_tuple(to4(r.T), r.rms, r.kept_fraction, r.iterations, r.start);
+  // One body for both overloads: with the original's tree, or with (V, T) (a tree built for the call).
+  auto align = [](VRef P, const TriangleTree* tree, VRef* V, TRef* T, const std::vector<M4>& starts, int coarse,
+                  int fine, double trim, bool with_scale, double scale_min, double scale_max, int top, int refine) {
+    std::vector<Similarity> S;
+    for (const auto& A : starts) S.push_back(from4(A));
+    IcpResult r;
+    {
+      py::gil_scoped_release release;
+      r = tree ? align_similarity(P, *tree, S, coarse, fine, trim, with_scale, scale_min, scale_max, top, refine)
+               : align_similarity(P, *V, *T, S, coarse, fine, trim, with_scale, scale_min, scale_max, top, refine);
+    }
+    return py::make_tuple(to4(r.T), r.rms, r.kept_fraction, r.iterations, r.start);
+  };
+  m.def("align_similarity", [align](VRef P, const TriangleTree& tree, const std::vector<M4>& starts, int coarse,
+                                    int fine, double trim, bool with_scale, double scale_min, double scale_max,
+                                    int top, int refine) {
+          return align(P, &tree, nullptr, nullptr, starts, coarse, fine, trim, with_scale, scale_min, scale_max,
+                       top, refine);
         }, py::arg("P"), py::arg("tree"), py::arg("starts"), py::arg("coarse") = 8, py::arg("fine") = 30,
         py::arg("trim") = 0.8, py::arg("with_scale") = true, py::arg("scale_min") = 0.0,
         py::arg("scale_max") = HUGE_VAL, py::arg("top") = 1, py::arg("refine") = 0);
-  m.def("align_similarity", [](VRef P, VRef V, TRef T, const std::vector<M4>& starts, int coarse, int fine,
-                               double trim, bool with_scale, double scale_min, double scale_max, int top,
-                               int refine) {
-          std::vector<Similarity> S;
-          for (const auto& A : starts) S.push_back(from4(A));
-          IcpResult r;
-          {
-            py::gil_scoped_release release;
-            r = align_similarity(P, V, T, S, coarse, fine, trim, with_scale, scale_min, scale_max, top, refine);
-          }
-          return py::make_tuple(to4(r.T), r.rms, r.kept_fraction, r.iterations, r.start);
+  m.def("align_similarity", [align](VRef P, VRef V, TRef T, const std::vector<M4>& starts, int coarse, int fine,
+                                    double trim, bool with_scale, double scale_min, double scale_max, int top,
+                                    int refine) {
+          return align(P, nullptr, &V, &T, starts, coarse, fine, trim, with_scale, scale_min, scale_max, top,
+                       refine);
         }, py::arg("P"), py::arg("V"), py::arg("T"), py::arg("starts"), py::arg("coarse") = 8, py::arg("fine") = 30,
         py::arg("trim") = 0.8, py::arg("with_scale") = true, py::arg("scale_min") = 0.0,
         py::arg("scale_max") = HUGE_VAL, py::arg("top") = 1, py::arg("refine") = 0);
