@@ -168,6 +168,7 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
             side = {k: v for k, v in setup["side_info"].items() if k != "carriers"}
         orig = _informed.Original(mesh, inf_params) if inf_params else None
         excluded: list = []
+        passes = 0
         while True:
             C = int(len(cids))
             if C < MIN_CARRIERS:
@@ -177,12 +178,15 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
                                                      cids, ids, key, sha, orig, sink, staged, report)
                 break
             except MeshError as exc:
-                # a new asset whose copies do not take: leave out the carriers that fail a trial, once
-                if found is not None or excluded or not any(t in str(exc) for t in _NOT_TAKEN):
+                # a new asset whose copies do not take: leave out the carriers that fail a trial (at most
+                # EXCLUDE_PASSES passes, each with fresh trials on the carriers left)
+                if found is not None or passes == EXCLUDE_PASSES or not any(t in str(exc) for t in _NOT_TAKEN):
                     raise
-                excluded = _unwritable(mesh, m, p, side, cids, key, sha, orig)
-                if not excluded:
+                more = _unwritable(mesh, m, p, side, cids, key, sha, orig, passes)
+                passes += 1
+                if not more:
                     raise
+                excluded = sorted(set(excluded) | set(more))
                 cids = np.asarray([c for c in cids if int(c) not in set(excluded)], np.int64)
                 for tmp, _ in staged:
                     if os.path.lexists(tmp):
@@ -228,6 +232,7 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
 
 _NOT_TAKEN = ("does not take", "do not read back")  # the messages of a copy whose carriers do not take
 TRIALS = 16  # trial codewords written on the original before carriers are left out (_unwritable)
+EXCLUDE_PASSES = 3  # rounds of trials; each leaves out more carriers if a copy still does not take
 
 
 def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sink, staged, report):
@@ -281,7 +286,7 @@ def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sin
     return out, rows, trace_side
 
 
-def _unwritable(mesh, m, p, side, cids, key, sha, orig) -> list:
+def _unwritable(mesh, m, p, side, cids, key, sha, orig, attempt: int = 0) -> list:
     """The carriers whose bit does not take in at least one of TRIALS trial copies of the original:
     a keyed random channel word over ``cids``, on top of a trial informed pattern (seeds of ids no copy
     can have), written as a copy is (embed_channel). On vtk_trumpet these are the pairs that hold
@@ -289,7 +294,8 @@ def _unwritable(mesh, m, p, side, cids, key, sha, orig) -> list:
     left in, their bit depends on the neighbouring carriers' bits and the copy's pattern."""
     C = int(len(cids))
     cids = np.asarray(cids, np.int64)
-    seeds = [_informed.copy_seed(key, sha, f"\0trial-{t}") for t in range(TRIALS)]
+    tag = "" if attempt == 0 else f"{attempt}-"  # fresh trials on each pass
+    seeds = [_informed.copy_seed(key, sha, f"\0trial-{tag}{t}") for t in range(TRIALS)]
     pats = orig.patterns(seeds) if orig is not None else None
     failed = set()
     for t, seed in enumerate(seeds):
