@@ -38,7 +38,6 @@ from __future__ import annotations
 import dataclasses
 import hmac
 import os
-import secrets
 
 import numpy as np
 
@@ -47,7 +46,8 @@ from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
 from ..metrics import weighted_false_alarm_probability
 from . import informed as _informed
 from . import keys as _keys
-from .framework import DETECTION_THRESHOLD, MAX_ROUNDS, MIN_CARRIERS, _weld, embed_channel
+from .copies import EXCLUDE_PASSES, LOST_SHARE, _NOT_TAKEN, _fit_budget, _mark_copies, _unwritable  # noqa: F401  (tracing.LOST_SHARE: API)
+from .framework import DETECTION_THRESHOLD, MIN_CARRIERS, _weld
 from .informed import source_digest  # noqa: F401  (tracing.source_digest: part of this module's API)
 from .keyfile import Keyfile
 from .methods import method_named
@@ -60,14 +60,6 @@ from typing import Any
 # copy among 100 only when every bit reads right; 64 still certify it with 10 of the 64 bits wrong
 # among 100 copies, 7 among 10,000)
 TRACE_CARRIERS = 64
-# A copy may leave at most C // LOST_SHARE of its C carrier bits unwritten (none below 64 carriers):
-# on some meshes a few pairs hold vertices whose carrier value the solve cannot move (vtk_trumpet: closed
-# 24-sided tubes of degree-3 vertices, all at one value), and whether their bit takes depends on the
-# copy's informed pattern and codeword. The registry keeps the random codeword drawn, so the other
-# copies' codewords stay fair coins independent of the suspect and the false-alarm bound is unchanged;
-# the copy itself still reads C - C // 64 of C bits right: p <= 1e5 * P(Bin(C, 1/2) >= C - C // 64),
-# below 1e-12 for C >= 64 (1e5 = MAX_COPIES).
-LOST_SHARE = 64
 
 
 def _setup_keyfile(setup: dict, key: str) -> Keyfile:
@@ -167,6 +159,12 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
             cids = np.asarray(setup["side_info"]["carriers"], np.int64)
             side = {k: v for k, v in setup["side_info"].items() if k != "carriers"}
         orig = _informed.Original(mesh, inf_params) if inf_params else None
+        budget = None
+        if found is None:  # the parameters that keep trial copies within the distortion budget
+            p, scale, budget = _fit_budget(mesh, m, p, side, cids, key, sha, orig,
+                                           tune_blind=params == "auto" and "n_robust" not in method_params)
+            if orig is not None and scale != 1.0:
+                inf_params["rmse"] = orig.params["rmse"] = inf_params["rmse"] * scale
         excluded: list = []
         passes = 0
         while True:
@@ -199,6 +197,8 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
                      "mesh": {"n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces}}
             if inf_params:
                 setup["informed"] = inf_params
+            if budget is not None:
+                setup["budget"] = budget
             if excluded:  # carriers left out because their bit did not take in a trial (_unwritable)
                 setup["excluded_carriers"] = [int(c) for c in excluded]
             asset_id = reg.add_asset(sha, source_name, setup, C)
@@ -228,83 +228,6 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
                 os.remove(tmp)
         if own:
             reg.close()
-
-
-_NOT_TAKEN = ("does not take", "do not read back")  # the messages of a copy whose carriers do not take
-TRIALS = 16  # trial codewords written on the original before carriers are left out (_unwritable)
-EXCLUDE_PASSES = 3  # rounds of trials; each leaves out more carriers if a copy still does not take
-
-
-def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sink, staged, report):
-    """(out, rows, trace_side): every copy marked with its random codeword over the carriers ``cids``
-    (with ``sink``: written to temporaries, appended to ``staged``). ``trace_side`` None: the first
-    copy's side information serves every copy. MeshError if a copy leaves more than C // LOST_SHARE
-    carrier bits unwritten."""
-    C = int(len(cids))
-    lost = C // LOST_SHARE  # carrier bits a copy may leave unwritten (see LOST_SHARE)
-    white = _keys.whitening(key, m.name, C)
-    order = _keys.permutation(key, m.name, C)
-    carriers = np.asarray(cids)[order]
-    out, rows = [], []
-    pats = None
-    for j, cid in enumerate(ids):
-        report(j / len(ids), f"copy {cid}")
-        cw = np.unpackbits(np.frombuffer(secrets.token_bytes((C + 7) // 8), np.uint8))[:C]
-        base = mesh
-        if orig is not None:  # the keyed pattern first; the blind mark on top is checked below
-            if j % _informed._BATCH == 0:
-                pats = orig.patterns([_informed.copy_seed(key, sha, c) for c in ids[j:j + _informed._BATCH]])
-            base = mesh.with_vertices(orig.marked(pats[:, j % _informed._BATCH]))
-        Vm, s_j, _ = embed_channel(base, m, p, dict(trace_side or side), carriers, cw ^ white, allow_lost=lost)
-        if trace_side is None:
-            trace_side = s_j  # the first copy's side information serves every copy
-        # every copy must read back with the one side information kept for the asset: re-embed the
-        # carriers that do not (the marked mesh's scale differs slightly from copy to copy)
-        ch = cw ^ white
-        for _ in range(MAX_ROUNDS):
-            got, _ = m.extract(mesh.with_vertices(Vm), p, trace_side, carriers)
-            bad = np.flatnonzero(got != ch)
-            if bad.size == 0:
-                break
-            Vm, _, _ = m.embed(mesh.with_vertices(Vm), p, dict(trace_side), carriers[bad], ch[bad])
-        else:
-            got, _ = m.extract(mesh.with_vertices(Vm), p, trace_side, carriers)
-            bad = np.flatnonzero(got != ch)
-        if bad.size > lost:
-            raise MeshError(f"copy {cid}: {bad.size} of {C} carrier bits do not read back with the shared side "
-                            f"information (at most {lost} may); nothing was recorded")
-        Vout = w.scatter(Vm) if w is not None else Vm
-        path = None
-        if sink is not None:
-            files = list(sink.write(cid, Vout))
-            staged.extend(files)
-            path = files[0][1] if files else None
-            out.append((cid, path))
-        else:
-            out.append((cid, Vout))
-        rows.append((cid, np.packbits(cw).tobytes(), path))
-    return out, rows, trace_side
-
-
-def _unwritable(mesh, m, p, side, cids, key, sha, orig, attempt: int = 0) -> list:
-    """The carriers whose bit does not take in at least one of TRIALS trial copies of the original:
-    a keyed random channel word over ``cids``, on top of a trial informed pattern (seeds of ids no copy
-    can have), written as a copy is (embed_channel). On vtk_trumpet these are the pairs that hold
-    closed 24-sided tubes of degree-3 vertices, all at one carrier value, which the solve cannot move;
-    left in, their bit depends on the neighbouring carriers' bits and the copy's pattern."""
-    C = int(len(cids))
-    cids = np.asarray(cids, np.int64)
-    tag = "" if attempt == 0 else f"{attempt}-"  # fresh trials on each pass
-    seeds = [_informed.copy_seed(key, sha, f"\0trial-{tag}{t}") for t in range(TRIALS)]
-    pats = orig.patterns(seeds) if orig is not None else None
-    failed = set()
-    for t, seed in enumerate(seeds):
-        ch = np.random.default_rng(seed).integers(0, 2, C).astype(np.uint8)
-        base = mesh if pats is None else mesh.with_vertices(orig.marked(pats[:, t]))
-        Vm, s_t, _ = embed_channel(base, m, p, dict(side), cids, ch, allow_lost=C)
-        got, _ = m.extract(mesh.with_vertices(Vm), p, s_t, cids)
-        failed.update(int(c) for c in cids[got != ch])
-    return sorted(failed)
 
 
 def set_paths(registry: PathLike | Registry, paths: dict, asset_id: int | None = None) -> None:
