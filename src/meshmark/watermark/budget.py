@@ -16,12 +16,14 @@ ways: tangential moves on flat parts, which the displacement counts, do not chan
 
 :data:`LADDER` is what :func:`.tracing.issue` tries, in order, for a new asset whose trial copies do
 not fit: a larger ``n_robust`` (eq. 7.2.16: the losing bin of a pair keeps more of its vertices, so
-fewer move; Laplacian only) and a weaker pattern. The first step whose trial copies all fit
-:data:`MARGIN` of the budget is kept; if none does, the automatic parameters are kept (their blind
-mark is the most robust; a weaker one would not make the copies invisible) and the asset's setup says
-so (``setup['budget']['fits'] = False``, with the trial copies' largest share). A larger n_robust
-makes the blind codeword less robust (it reads through less noise without the original); the informed
-pattern, weakened only as a last resort, carries the evidence against a leaker who tries.
+fewer move; Laplacian only), then a weaker pattern. The first step whose trial copies all fit
+:data:`MARGIN` of the budget is kept; if none does, the first within the budget itself; if none is,
+the automatic parameters (their blind mark is the most robust; a weaker one would not make the
+copies invisible). The asset's setup records the outcome: ``setup['budget']`` = ``{"fits": every trial
+copy within the budget, "worst_share": the trial copies' largest share, "n_robust", "pattern_scale",
+"trials"}``. A larger n_robust makes the blind codeword less robust (it reads through less noise
+without the original); the informed pattern, weakened only as a last resort, carries the evidence
+against a leaker who tries.
 """
 from __future__ import annotations
 

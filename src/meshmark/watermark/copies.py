@@ -141,7 +141,7 @@ def _fit_budget(mesh, m, p, side, cids, key, sha, orig, tune_blind: bool):
     """(p, pattern scale, record): the first step of budget.LADDER whose trial copies (budget.TRIALS:
     pattern and a random channel word, written as copies are, with the first trial's side information
     serving the others) all take and fit budget.MARGIN of the distortion budget; if none does, the
-    first step that takes (the automatic parameters). ``tune_blind``: the blind parameters may change (n_robust; automatic Laplacian
+    first within the budget itself, else the first step that takes (the automatic parameters). ``tune_blind``: the blind parameters may change (n_robust; automatic Laplacian
     parameters only). The choice depends on the original and the key alone, never on a copy's
     codeword (choosing codewords by their distortion would favour bits the original already reads)."""
     cids = np.asarray(cids, np.int64)
@@ -149,7 +149,7 @@ def _fit_budget(mesh, m, p, side, cids, key, sha, orig, tune_blind: bool):
     seeds = [_informed.copy_seed(key, sha, f"\0budget-{t}") for t in range(_budget.TRIALS)]
     pats = orig.patterns(seeds) if orig is not None else None
     lost = len(cids) // LOST_SHARE
-    best = first = None
+    best = first = near = None
     tried = set()
     for nr, scale in _budget.LADDER:
         pp = dict(p)
@@ -170,16 +170,19 @@ def _fit_budget(mesh, m, p, side, cids, key, sha, orig, tune_blind: bool):
             continue
         if first is None:
             first = (share, pp, scale)
+        if near is None and share <= 1.0:
+            near = (share, pp, scale)
         if share <= _budget.MARGIN:
             best = (share, pp, scale)
             break
-    # no step fits: the automatic parameters, whose blind mark is the most robust (a weaker one would
-    # not buy invisibility); setup['budget'] records the excess
-    best = best or first
+    # no step fits the margin: the first whose trials are within the budget itself; else the automatic
+    # parameters, whose blind mark is the most robust (a weaker one would not buy invisibility);
+    # setup['budget'] records the share
+    best = best or near or first
     if best is None:  # no step takes: the automatic parameters, as before (issue reports what fails)
         return p, 1.0, None
     share, pp, scale = best
-    rec = {"fits": bool(share <= _budget.MARGIN), "worst_share": round(float(share), 4), "pattern_scale": scale,
+    rec = {"fits": bool(share <= 1.0), "worst_share": round(float(share), 4), "pattern_scale": scale,
            "trials": _budget.TRIALS}
     if "n_robust" in pp:
         rec["n_robust"] = int(pp["n_robust"])
