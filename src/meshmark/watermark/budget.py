@@ -66,7 +66,9 @@ def worst(share: dict) -> float:
     return max(share.values())
 
 
-COPY_SCALES = (1.0, 0.6, 0.35)  # a copy beyond the budget is remade with its pattern scaled so
+# a copy beyond the budget is remade with a larger n_robust (never beyond n_thr - 1), then its pattern scaled so
+COPY_N_ROBUST = (5, 8, 12, 15)
+COPY_SCALES = (0.6, 0.35)
 
 
 class Reference:

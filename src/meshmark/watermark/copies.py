@@ -30,43 +30,63 @@ TRIALS = 16  # trial codewords written on the original before carriers are left 
 EXCLUDE_PASSES = 3  # rounds of trials; each leaves out more carriers if a copy still does not take
 
 
-def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sink, staged, report):
+def _copy_steps(p: dict, tune_blind: bool, informed: bool) -> list:
+    """(parameters, pattern scale) a copy tries in order until it is within the budget: the asset's,
+    then a larger n_robust (``tune_blind``; n_robust only decides how many lengths the embedding moves,
+    never how a carrier is read, so copies of one asset may differ in it), then a weaker pattern. The
+    codeword is never redrawn: choosing it by its distortion would favour bits the original already reads."""
+    steps = [(p, 1.0)]
+    if tune_blind and "n_robust" in p:
+        cap = int(p.get("n_thr", 2)) - 1
+        for nr in _budget.COPY_N_ROBUST:
+            v = min(nr, cap)
+            if v > steps[-1][0]["n_robust"]:
+                steps.append((dict(p, n_robust=v), 1.0))
+    if informed:
+        steps += [(steps[-1][0], s) for s in _budget.COPY_SCALES]
+    return steps
+
+
+def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sink, staged, report,
+                 tune_blind: bool = False):
     """(out, rows, trace_side): every copy marked with its random codeword over the carriers ``cids``
     (with ``sink``: written to temporaries, appended to ``staged``). ``trace_side`` None: the first
-    copy's side information serves every copy. MeshError if a copy leaves more than C // LOST_SHARE
-    carrier bits unwritten."""
+    copy's side information serves every copy. A copy beyond the distortion budget is remade along
+    :func:`_copy_steps` until it is within (if none is, the first step that takes is kept: a
+    weaker mark would not make the copy invisible). MeshError if a copy leaves more than
+    C // LOST_SHARE carrier bits unwritten."""
     C = int(len(cids))
     lost = C // LOST_SHARE  # carrier bits a copy may leave unwritten (see LOST_SHARE)
     white = _keys.whitening(key, m.name, C)
     order = _keys.permutation(key, m.name, C)
     carriers = np.asarray(cids)[order]
+    ref = _budget.Reference(mesh) if orig is None else orig
+    steps = _copy_steps(p, tune_blind, orig is not None)
     out, rows = [], []
     pats = None
     for j, cid in enumerate(ids):
         report(j / len(ids), f"copy {cid}")
         cw = np.unpackbits(np.frombuffer(secrets.token_bytes((C + 7) // 8), np.uint8))[:C]
         ch = cw ^ white
-        if orig is None:
-            Vm, trace_side = _write_copy(mesh, mesh, m, p, trace_side, side, carriers, ch, lost, cid)
-        else:  # the keyed pattern first, the blind mark on top; a copy beyond the budget gets a weaker pattern
-            if j % _informed._BATCH == 0:
-                pats = orig.patterns([_informed.copy_seed(key, sha, c) for c in ids[j:j + _informed._BATCH]])
-            best, err = None, None
-            for s in _budget.COPY_SCALES:  # the pattern's scale changes z, never the null (informed.detect)
-                base = mesh.with_vertices(orig.marked(s * pats[:, j % _informed._BATCH]))
-                try:
-                    Vs, ts = _write_copy(mesh, base, m, p, trace_side, side, carriers, ch, lost, cid)
-                except MeshError as exc:  # does not read back with the shared side information
-                    err = exc
-                    continue
-                share = _budget.worst(_budget.measure(orig.V, orig.T, Vs, orig.diag))
-                if best is None or share < best[0]:
-                    best = (share, Vs, ts)
-                if share <= 1.0:
-                    break
+        if orig is not None and j % _informed._BATCH == 0:
+            pats = orig.patterns([_informed.copy_seed(key, sha, c) for c in ids[j:j + _informed._BATCH]])
+        best, err = None, None
+        for pc, s in steps:  # the pattern's scale changes z, never the null (informed.detect)
+            # the keyed pattern first, the blind mark on top
+            base = mesh if orig is None else mesh.with_vertices(orig.marked(s * pats[:, j % _informed._BATCH]))
+            try:
+                Vs, ts = _write_copy(mesh, base, m, pc, trace_side, side, carriers, ch, lost, cid)
+            except MeshError as exc:  # does not read back with the shared side information
+                err = exc
+                continue
             if best is None:
-                raise err
-            _, Vm, trace_side = best
+                best = (Vs, ts)  # kept if no step is within: the most robust mark that takes
+            if _budget.worst(_budget.measure(ref.V, ref.T, Vs, ref.diag)) <= 1.0:
+                best = (Vs, ts)
+                break
+        if best is None:
+            raise err
+        Vm, trace_side = best
         Vout = w.scatter(Vm) if w is not None else Vm
         path = None
         if sink is not None:

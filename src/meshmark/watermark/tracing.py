@@ -165,9 +165,9 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
             side = {k: v for k, v in setup["side_info"].items() if k != "carriers"}
         orig = _informed.Original(mesh, inf_params) if inf_params else None
         budget = None
+        tune = params == "auto" and "n_robust" not in method_params  # the blind mark's n_robust may change
         if found is None:  # the parameters that keep trial copies within the distortion budget
-            p, scale, budget = _fit_budget(mesh, m, p, side, cids, key, sha, orig,
-                                           tune_blind=params == "auto" and "n_robust" not in method_params)
+            p, scale, budget = _fit_budget(mesh, m, p, side, cids, key, sha, orig, tune_blind=tune)
             if orig is not None and scale != 1.0:
                 inf_params["rmse"] = orig.params["rmse"] = inf_params["rmse"] * scale
         excluded: list = []
@@ -178,7 +178,8 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
                 raise MeshError(f"the mesh offers only {C} carrier bits to the {method} method; at least {MIN_CARRIERS} are needed")
             try:
                 out, rows, trace_side = _mark_copies(mesh, w, m, p, side if found is not None else None, side,
-                                                     cids, ids, key, sha, orig, sink, staged, report)
+                                                     cids, ids, key, sha, orig, sink, staged, report,
+                                                     tune_blind=tune)
                 break
             except MeshError as exc:
                 # a new asset whose copies do not take: leave out the carriers that fail a trial (at most
