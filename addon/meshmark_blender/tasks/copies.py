@@ -46,11 +46,12 @@ def issue_steps(context, target, *, copies=10, key=None, registry="", output_dir
     joined = target.base()
     mesh = joined.mesh
     stem = keyfiles.shared_name(target.names)
-    paths = {}
+    paths, shares = {}, []
     try:
         for j in range(copies):
             made = tracing.issue(mesh, key=key, registry=reg, n_copies=1, method=method, params=params,
                                  store_key=store_key, source_name=stem)
+            shares.append(made.distortion["largest_share"])
             cid, V = made[0]
             path = os.path.join(out, f"{stem}-{cid}.{file_format}")
             meshmark.write_mesh(path, V, mesh)
@@ -61,9 +62,14 @@ def issue_steps(context, target, *, copies=10, key=None, registry="", output_dir
             tracing.set_paths(reg, paths)
     data = {"registry": reg, "output_dir": out, "copies": [{"id": c, "path": p} for c, p in paths.items()],
             "store_key": bool(store_key), "parts": target.names}
-    note = parts_note(context, target)
+    beyond = sum(x > 1.0 for x in shares)
+    data["copies_beyond_budget"] = beyond
+    notes = [n for n in (parts_note(context, target),) if n]
+    if beyond:
+        notes.append(f"{words.plural(beyond, 'copy', 'copies')} of {len(shares)} change the model more than is "
+                     f"invisible (up to {max(shares):.1f} times the limit): the marks may show on this model")
     text = f"Issued {words.plural(len(paths), 'copy', 'copies')} of {target.quoted} into {out}; registry {os.path.basename(reg)}"
-    return Outcome(ISSUE, target.names, "WARNING" if note else "INFO", text, data, [note] if note else [])
+    return Outcome(ISSUE, target.names, "WARNING" if notes else "INFO", text, data, notes)
 
 
 def trace_steps(context, target, *, registry="", key=None, evaluated=True):

@@ -80,3 +80,10 @@ class Reference:
         self.T = np.ascontiguousarray(mesh.triangles, np.int32)
         P = self.V[np.unique(self.T)]
         self.diag = float(np.linalg.norm(P.max(0) - P.min(0))) if len(P) else 1.0
+
+
+def summary(shares) -> dict:
+    """The distortion of issued copies from their largest shares (:func:`worst` of each)."""
+    shares = [float(x) for x in shares]
+    return {"limits": dict(BUDGET), "n_copies": len(shares), "copies_beyond": sum(x > 1.0 for x in shares),
+            "largest_share": round(max(shares, default=0.0), 4)}

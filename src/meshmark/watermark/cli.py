@@ -116,10 +116,17 @@ def issue(inp, outdir, copies, ids_csv, key, registry, method, params_mode, forc
     finally:
         reg.close()
     paths = dict(out)
+    dist = out.distortion
     d = {"input": inp, "output": outdir, "registry": registry,
-         "copies": [{"id": c, "path": p} for c, p in paths.items()]}
-    jsonout.emit(d, as_json,
-                 f"issued {len(paths)} copies of {inp} into {outdir} (ids {out[0][0]}..{out[-1][0]}); registry {registry}")
+         "copies": [{"id": c, "path": p} for c, p in paths.items()], "distortion": dist}
+    text = f"issued {len(paths)} copies of {inp} into {outdir} (ids {out[0][0]}..{out[-1][0]}); registry {registry}"
+    if dist["copies_beyond"]:
+        lim = dist["limits"]
+        text += (f"\nwarning: {dist['copies_beyond']} of {dist['n_copies']} copies change the mesh more than is invisible "
+                 f"(up to {dist['largest_share']:.1f} times the limit: vertex RMSE {lim['rmse']:g} or Hausdorff "
+                 f"{lim['hausdorff']:g} of the bounding-box diagonal, or {lim['normal_deg']:g} degrees of normal change); "
+                 f"the marks may be visible on this mesh (docs/tracing.md, \"Distortion budget\")")
+    jsonout.emit(d, as_json, text)
 
 
 @click.command()

@@ -49,11 +49,12 @@ def _copy_steps(p: dict, tune_blind: bool, informed: bool) -> list:
 
 def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sink, staged, report,
                  tune_blind: bool = False):
-    """(out, rows, trace_side): every copy marked with its random codeword over the carriers ``cids``
+    """(out, rows, trace_side, shares): every copy marked with its random codeword over the carriers ``cids``
     (with ``sink``: written to temporaries, appended to ``staged``). ``trace_side`` None: the first
     copy's side information serves every copy. A copy beyond the distortion budget is remade along
     :func:`_copy_steps` until it is within (if none is, the first step that takes is kept: a
-    weaker mark would not make the copy invisible). MeshError if a copy leaves more than
+    weaker mark would not make the copy invisible); ``shares``: each copy's largest share of the
+    budget (budget.measure). MeshError if a copy leaves more than
     C // LOST_SHARE carrier bits unwritten."""
     C = int(len(cids))
     lost = C // LOST_SHARE  # carrier bits a copy may leave unwritten (see LOST_SHARE)
@@ -62,7 +63,7 @@ def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sin
     carriers = np.asarray(cids)[order]
     ref = _budget.Reference(mesh) if orig is None else orig
     steps = _copy_steps(p, tune_blind, orig is not None)
-    out, rows = [], []
+    out, rows, shares = [], [], []
     pats = None
     for j, cid in enumerate(ids):
         report(j / len(ids), f"copy {cid}")
@@ -79,14 +80,16 @@ def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sin
             except MeshError as exc:  # does not read back with the shared side information
                 err = exc
                 continue
+            share = _budget.worst(_budget.measure(ref.V, ref.T, Vs, ref.diag))
             if best is None:
-                best = (Vs, ts)  # kept if no step is within: the most robust mark that takes
-            if _budget.worst(_budget.measure(ref.V, ref.T, Vs, ref.diag)) <= 1.0:
-                best = (Vs, ts)
+                best = (Vs, ts, share)  # kept if no step is within: the most robust mark that takes
+            if share <= 1.0:
+                best = (Vs, ts, share)
                 break
         if best is None:
             raise err
-        Vm, trace_side = best
+        Vm, trace_side, share = best
+        shares.append(share)
         Vout = w.scatter(Vm) if w is not None else Vm
         path = None
         if sink is not None:
@@ -97,7 +100,7 @@ def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sin
         else:
             out.append((cid, Vout))
         rows.append((cid, np.packbits(cw).tobytes(), path))
-    return out, rows, trace_side
+    return out, rows, trace_side, shares
 
 
 def _write_copy(mesh, base, m, p, trace_side, side, carriers, ch, lost, cid):

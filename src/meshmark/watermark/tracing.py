@@ -50,6 +50,7 @@ from .._core import MeshError
 from ..mesh import as_mesh, FacesLike, Mesh, MeshLike
 from ..metrics import weighted_false_alarm_probability
 from . import informed as _informed
+from . import budget as _budget
 from . import keys as _keys
 from .copies import EXCLUDE_PASSES, LOST_SHARE, _NOT_TAKEN, _fit_budget, _mark_copies, _unwritable  # noqa: F401  (tracing.LOST_SHARE: API)
 from .framework import DETECTION_THRESHOLD, MIN_CARRIERS, _weld
@@ -57,7 +58,7 @@ from .informed import source_digest  # noqa: F401  (tracing.source_digest: part 
 from .keyfile import Keyfile
 from .methods import method_named
 from .registry import MAX_COPIES, SCHEMA_VERSION, WAIT, Registry, check_copy_id, key_hash  # noqa: F401
-from .._typing import FloatArray, PathLike, Progress
+from .._typing import PathLike, Progress
 from typing import Sequence
 from typing import Any
 
@@ -65,6 +66,17 @@ from typing import Any
 # copy among 100 only when every bit reads right; 64 still certify it with 10 of the 64 bits wrong
 # among 100 copies, 7 among 10,000)
 TRACE_CARRIERS = 64
+
+
+class IssuedCopies(list):
+    """What :func:`issue` returns: the list of ``(copy_id, V)`` (or ``(copy_id, path)``), with
+    ``distortion``: ``{"limits": budget.BUDGET, "n_copies", "copies_beyond": copies beyond the
+    budget, "largest_share": the largest of a copy's RMSE, Hausdorff and normal change over its
+    limit}`` (:mod:`.budget`; 1 = at a limit)."""
+
+    def __init__(self, items, distortion: dict):
+        super().__init__(items)
+        self.distortion = distortion
 
 
 def _setup_keyfile(setup: dict, key: str) -> Keyfile:
@@ -100,12 +112,13 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
           params: str | dict[str, Any] = "auto", weld: bool = True, store_key: bool = True, source_name: str = "",
           progress: Progress = None, original: PathLike | None = None, informed: bool = True, sink: Any = None,
           wait: float = WAIT,
-          **method_params: Any) -> list[tuple[str, FloatArray]] | list[tuple[str, str]]:
+          **method_params: Any) -> IssuedCopies:
     """Mark copies of the mesh, each with its own random codeword; record them in ``registry`` (a
     path or :class:`Registry`). Give ``n_copies`` (1..MAX_COPIES; numbered after the asset's largest numeric id:
     ``0001``, ...) or ``ids`` (strings usable in a file name, unique within the asset; the same id
     may be used by another asset). Returns a list of ``(copy_id, V)`` with V the (n, 3) float64 marked
-    vertices (input order), or with ``sink`` a list of ``(copy_id, path)``.
+    vertices (input order), or with ``sink`` a list of ``(copy_id, path)``: an :class:`IssuedCopies`,
+    whose ``distortion`` says how many copies are beyond the distortion budget.
 
     The whole issue is one write transaction of the registry (``BEGIN IMMEDIATE``): a second issue
     into the same registry waits up to ``wait`` seconds and then numbers its copies after this one's.
@@ -177,7 +190,7 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
             if C < MIN_CARRIERS:
                 raise MeshError(f"the mesh offers only {C} carrier bits to the {method} method; at least {MIN_CARRIERS} are needed")
             try:
-                out, rows, trace_side = _mark_copies(mesh, w, m, p, side if found is not None else None, side,
+                out, rows, trace_side, shares = _mark_copies(mesh, w, m, p, side if found is not None else None, side,
                                                      cids, ids, key, sha, orig, sink, staged, report,
                                                      tune_blind=tune)
                 break
@@ -221,7 +234,7 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
         reg.commit()
         placed = []
         report(1.0, "done")
-        return out
+        return IssuedCopies(out, _budget.summary(shares))
     except BaseException:
         reg.rollback()
         for final, existed in placed:
