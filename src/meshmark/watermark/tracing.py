@@ -59,7 +59,7 @@ from .keyfile import Keyfile
 from .methods import method_named
 from .registry import MAX_COPIES, SCHEMA_VERSION, WAIT, Registry, check_copy_id, key_hash  # noqa: F401
 from .._typing import PathLike, Progress
-from typing import Sequence
+from typing import Iterable, Sequence
 from typing import Any
 
 # params="auto" for copies: the first rung of the ladder with at least 64 carriers (27 certify one
@@ -74,7 +74,7 @@ class IssuedCopies(list):
     budget, "largest_share": the largest of a copy's RMSE, Hausdorff and normal change over its
     limit}`` (:mod:`.budget`; 1 = at a limit)."""
 
-    def __init__(self, items, distortion: dict):
+    def __init__(self, items: Iterable[tuple[str, Any]], distortion: dict) -> None:
         super().__init__(items)
         self.distortion = distortion
 
