@@ -211,7 +211,8 @@ def test_carriers_that_cannot_be_written_are_left_out_on_vtk_trumpet(tmp_path, m
     """vtk_trumpet (33 parts of 36-gons): pairs holding closed tubes of degree-3 vertices at one carrier
     value cannot move, so every issue failed ("does not take"). With these codewords the first try fails;
     issue then leaves out the 6 carriers that fail one of 16 trial copies, records them in the asset's
-    setup, and every copy traces to itself, blind and informed."""
+    setup, and every copy traces to itself, blind and informed. Its copies cannot be made invisible, and
+    issue says so without trying the whole ladder."""
     trumpet = meshmark.read_mesh(shared_mesh("corpus/vtk_trumpet.obj"))
     g = np.random.default_rng(1)
     monkeypatch.setattr(tracing_copies.secrets, "token_bytes", lambda n: g.bytes(n))
@@ -222,6 +223,12 @@ def test_carriers_that_cannot_be_written_are_left_out_on_vtk_trumpet(tmp_path, m
     excluded = setup.get("excluded_carriers", [])  # 6 here; the solver's rounding may change which fail
     assert n_carriers == 90 - len(excluded) >= tracing.MIN_CARRIERS
     assert not set(excluded) & set(setup["side_info"]["carriers"])
+    # even the gentlest step's best trial copy is far beyond the distortion budget: the ladder stops there,
+    # no copy is remade, and issue says every copy is beyond it
+    from meshmark.watermark import budget
+    rec = setup["budget"]
+    assert rec["remake"] is False and rec["gentlest_share"] > budget.HOPELESS and not rec["fits"]
+    assert copies.distortion["copies_beyond"] == 8 and copies.distortion["largest_share"] > 10
     for cid, V in copies:
         r = tracing.trace(trumpet.with_vertices(V), registry=reg, original=trumpet)
         assert (r["detected"], r["copy"]) == (True, cid) and r["p_false_alarm"] < 1e-6

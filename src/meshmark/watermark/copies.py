@@ -48,13 +48,14 @@ def _copy_steps(p: dict, tune_blind: bool, informed: bool) -> list:
 
 
 def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sink, staged, report,
-                 tune_blind: bool = False):
+                 tune_blind: bool = False, remake: bool = True):
     """(out, rows, trace_side, shares): every copy marked with its random codeword over the carriers ``cids``
     (with ``sink``: written to temporaries, appended to ``staged``). ``trace_side`` None: the first
     copy's side information serves every copy. A copy beyond the distortion budget is remade along
     :func:`_copy_steps` until it is within (if none is, the first step that takes is kept: a
     weaker mark would not make the copy invisible); ``shares``: each copy's largest share of the
-    budget (budget.measure). MeshError if a copy leaves more than
+    budget (budget.measure); ``remake`` False: no copy is remade (the asset's gentlest trial copies are
+    beyond budget.HOPELESS, _fit_budget). MeshError if a copy leaves more than
     C // LOST_SHARE carrier bits unwritten."""
     C = int(len(cids))
     lost = C // LOST_SHARE  # carrier bits a copy may leave unwritten (see LOST_SHARE)
@@ -62,7 +63,7 @@ def _mark_copies(mesh, w, m, p, trace_side, side, cids, ids, key, sha, orig, sin
     order = _keys.permutation(key, m.name, C)
     carriers = np.asarray(cids)[order]
     ref = _budget.Reference(mesh) if orig is None else orig
-    steps = _copy_steps(p, tune_blind, orig is not None)
+    steps = _copy_steps(p, tune_blind, orig is not None) if remake else [(p, 1.0)]
     out, rows, shares = [], [], []
     pats = None
     for j, cid in enumerate(ids):
@@ -164,33 +165,49 @@ def _fit_budget(mesh, m, p, side, cids, key, sha, orig, tune_blind: bool):
     """(p, pattern scale, record): the first step of budget.LADDER whose trial copies (budget.TRIALS:
     pattern and a random channel word, written as copies are, with the first trial's side information
     serving the others) all take and fit budget.MARGIN of the distortion budget; if none does, the
-    first within the budget itself, else the first step that takes (the automatic parameters). ``tune_blind``: the blind parameters may change (n_robust; automatic Laplacian
-    parameters only). The choice depends on the original and the key alone, never on a copy's
-    codeword (choosing codewords by their distortion would favour bits the original already reads)."""
+    first within the budget itself, else the first step that takes (the automatic parameters).
+    When the automatic parameters do not fit, the gentlest step is tried next: if even its best trial
+    copy is beyond budget.HOPELESS times the budget, no step can bring copies within and the automatic
+    parameters are kept at once (``record['remake']`` False: copies are not remade either;
+    ``record['gentlest_share']``: that best trial's share).
+    ``tune_blind``: the blind parameters may change (n_robust; automatic Laplacian parameters only).
+    The choice depends on the original and the key alone, never on a copy's codeword (choosing
+    codewords by their distortion would favour bits the original already reads)."""
     cids = np.asarray(cids, np.int64)
     ref = _budget.Reference(mesh) if orig is None else orig
     seeds = [_informed.copy_seed(key, sha, f"\0budget-{t}") for t in range(_budget.TRIALS)]
     pats = orig.patterns(seeds) if orig is not None else None
     lost = len(cids) // LOST_SHARE
-    best = first = near = None
-    tried = set()
-    for nr, scale in _budget.LADDER:
+
+    def step(nr, scale):
         pp = dict(p)
         if nr is not None and tune_blind and "n_robust" in pp:  # never beyond n_thr - 1: a margin of one vertex
             pp["n_robust"] = max(int(pp["n_robust"]), min(nr, int(pp.get("n_thr", nr + 1)) - 1))
-        scale = scale if orig is not None else 1.0
-        if (pp.get("n_robust"), scale) in tried:
-            continue
-        tried.add((pp.get("n_robust"), scale))
-        share, ts = 0.0, None
+        return pp, (scale if orig is not None else 1.0)
+
+    def trials(pp, scale):  # the trial copies' shares of the budget; None: they do not take
+        shares, ts = [], None
         try:
             for t, seed in enumerate(seeds):
                 base = mesh if pats is None else mesh.with_vertices(orig.marked(scale * pats[:, t]))
                 ch = np.random.default_rng(seed).integers(0, 2, len(cids)).astype(np.uint8)
                 Vm, ts = _write_copy(mesh, base, m, pp, ts, side, cids, ch, lost, f"trial {t + 1}")
-                share = max(share, _budget.worst(_budget.measure(ref.V, ref.T, Vm, ref.diag)))
-        except MeshError:  # this step's copies do not take
+                shares.append(_budget.worst(_budget.measure(ref.V, ref.T, Vm, ref.diag)))
+        except MeshError:
+            return None
+        return shares
+
+    best = first = near = None
+    done: dict = {}
+    remake, gentlest = True, None
+    for i, (nr, scale) in enumerate(_budget.LADDER):
+        pp, scale = step(nr, scale)
+        k = (pp.get("n_robust"), scale)
+        if k not in done:
+            done[k] = trials(pp, scale)
+        if done[k] is None:  # this step's copies do not take
             continue
+        share = max(done[k])
         if first is None:
             first = (share, pp, scale)
         if near is None and share <= 1.0:
@@ -198,6 +215,14 @@ def _fit_budget(mesh, m, p, side, cids, key, sha, orig, tune_blind: bool):
         if share <= _budget.MARGIN:
             best = (share, pp, scale)
             break
+        if i == 0 and len(_budget.LADDER) > 1:  # the gentlest step: can any step bring copies within?
+            gp, gs = step(*_budget.LADDER[-1])
+            gk = (gp.get("n_robust"), gs)
+            done[gk] = trials(gp, gs)
+            gentlest = None if done[gk] is None else min(done[gk])
+            if gentlest is not None and gentlest > _budget.HOPELESS:
+                remake = False
+                break
     # no step fits the margin: the first whose trials are within the budget itself; else the automatic
     # parameters, whose blind mark is the most robust (a weaker one would not buy invisibility);
     # setup['budget'] records the share
@@ -209,4 +234,8 @@ def _fit_budget(mesh, m, p, side, cids, key, sha, orig, tune_blind: bool):
            "trials": _budget.TRIALS}
     if "n_robust" in pp:
         rec["n_robust"] = int(pp["n_robust"])
+    if gentlest is not None:
+        rec["gentlest_share"] = round(float(gentlest), 4)
+    if not remake:
+        rec["remake"] = False
     return pp, scale, rec

@@ -183,6 +183,8 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
             p, scale, budget = _fit_budget(mesh, m, p, side, cids, key, sha, orig, tune_blind=tune)
             if orig is not None and scale != 1.0:
                 inf_params["rmse"] = orig.params["rmse"] = inf_params["rmse"] * scale
+        rec = budget if found is None else setup.get("budget")
+        remake = (rec or {}).get("remake", True)  # False: the gentlest trial copies were far beyond the budget
         excluded: list = []
         passes = 0
         while True:
@@ -192,7 +194,7 @@ def issue(V: MeshLike, F: FacesLike = None, *, key: str | int, registry: PathLik
             try:
                 out, rows, trace_side, shares = _mark_copies(mesh, w, m, p, side if found is not None else None, side,
                                                      cids, ids, key, sha, orig, sink, staged, report,
-                                                     tune_blind=tune)
+                                                     tune_blind=tune, remake=remake)
                 break
             except MeshError as exc:
                 # a new asset whose copies do not take: leave out the carriers that fail a trial (at most
