@@ -56,6 +56,7 @@ def steps(ui):
     sys.path[:] = [p for p in sys.path if p != os.path.join(ui.ROOT, "addon")]  # rigs put it there: the add-on
     # must come from the installed zip (the user scripts folder), not from the repository
     arm = _build_scene(rigs)
+    autosave = _start_autosave(ui)  # its timer runs while the steps do (the search waits for a later one)
     import addon_utils
     assert bpy.ops.preferences.addon_install(filepath=ui.ZIP, overwrite=True) == {"FINISHED"}
     addon_utils.enable("meshmark_blender", default_set=True, handle_error=None)
@@ -221,6 +222,7 @@ def steps(ui):
     yield
     ui.snapshot("stego", hide=r_hide, reveal=r_reveal, read_back=hide.get("read_back"), text=reveal.get("text"),
                 ask=r_ask, ask_kept_mesh=asked_kept, save=r_save, load=r_load)
+    stego_done = time.time()  # the session now holds the hidden text: an autosave after this is searched
 
     # Analysis: the heat map, and the viewport switched to show it
     ui.SHOW["only"] = "Analysis"
@@ -329,25 +331,38 @@ def steps(ui):
     win.event_simulate(type="ESC", value="PRESS")
     win.event_simulate(type="ESC", value="RELEASE")
     yield
-    yield from _secrets_out_of_the_files(ui, s)
+    yield from _secrets_out_of_the_files(ui, s, autosave, stego_done)
 
 
-def _secrets_out_of_the_files(ui, s):
-    """Save the .blend and wait for the autosave; search both for the hidden and revealed text."""
+def _start_autosave(ui):
+    """Turn Blender's autosave on (every minute, the shortest) at the start: its timer runs while the
+    steps do. Returns the folder and the start time."""
     prefs = bpy.context.preferences.filepaths
     temp = os.path.join(ui.TMP, "autosave")
     os.makedirs(temp, exist_ok=True)
     prefs.temporary_directory = temp
     prefs.use_auto_save_temporary_files = True
     prefs.auto_save_time = 1  # minutes: the shortest
+    return temp, time.monotonic()
+
+
+def _secrets_out_of_the_files(ui, s, autosave_started, after):
+    """Save the .blend and wait for an autosave written after ``after`` (time.time() once the text was
+    hidden and revealed); search both for the hidden and revealed text."""
+    temp, t0 = autosave_started
     blend = os.path.join(ui.TMP, "scene.blend")
     bpy.ops.wm.save_as_mainfile(filepath=blend, compress=False)
-    t0 = time.monotonic()
+
+    def written():
+        found = glob.glob(os.path.join(temp, "*autosave*.blend")) + glob.glob(os.path.join(bpy.app.tempdir,
+                                                                                               "*autosave*.blend"))
+        return [p for p in found if os.path.getmtime(p) > after]
     autosave = []
-    while time.monotonic() - t0 < 150 and not autosave:
+    autosave = written()
+    while time.monotonic() - t0 < 400 and not autosave:
         ui.redraw()
         yield
-        autosave = glob.glob(os.path.join(temp, "*autosave*.blend")) + glob.glob(os.path.join(bpy.app.tempdir, "*autosave*.blend"))
+        autosave = written()
     import rigs
     needles = rigs.secret_needles(SECRET_TEXT, SECRET_KEY)
     found = {}
