@@ -48,5 +48,8 @@ TEST_P(HausdorffAgainstCGAL, NoiseAndSimplification) {
   expect_agreement(m, Tri{s.V, s.T}, "simplify 50%");
 }
 
+// the bunny (open, 35,947 vertices) and the elephant (closed, genus 3); the horse (closed, genus 0, 48,485
+// vertices) added 46 s here, 41 of them CGAL's bound from its simplified copy back to it (4.3e-5), and
+// nothing the other two do not test (bench/hausdorff_cgal.cpp times any mesh)
 INSTANTIATE_TEST_SUITE_P(SharedMeshes, HausdorffAgainstCGAL,
-                         ::testing::Values("classic/bunny.obj", "classic/horse.ply", "classic/elephant.off"));
+                         ::testing::Values("classic/bunny.obj", "classic/elephant.off"));
