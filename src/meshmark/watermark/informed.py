@@ -43,6 +43,10 @@ DEFAULT_MODES = 240
 DEFAULT_POWER = 2
 DEFAULT_RMSE = 6e-5           # vertex RMSE of the pattern / bounding-box diagonal
 _BATCH = 16                   # copies per low-pass solve (memory: n x 16 doubles)
+# the alignment's starts are scored and refined on every k-th triangle of the original, about this
+# many (docs/tracing.md, Speed): most of the 76 starts put the points far from the surface, where a
+# closest-point query costs about 10x a near one; the fine stage uses every triangle
+COARSE_TRIANGLES = 8000
 
 
 def _tri(mesh: Mesh) -> np.ndarray:
@@ -90,7 +94,7 @@ class Original:
         P = self.V[self.ref]
         self.diag = float(np.linalg.norm(P.max(0) - P.min(0)))
         self.edge = float(np.median(np.linalg.norm(self.V[self.T] - self.V[np.roll(self.T, 1, axis=1)], axis=2)))
-        self._op = self._tree = self._B = None
+        self._op = self._tree = self._coarse = self._B = None
 
     @property
     def op(self):
@@ -104,6 +108,15 @@ class Original:
         if self._tree is None:
             self._tree = _core.TriangleTree(self.V, self.T)
         return self._tree
+
+    @property
+    def coarse_tree(self):
+        """The tree of every k-th triangle (about COARSE_TRIANGLES; all of them on smaller meshes), on
+        which the alignment scores and refines its starts."""
+        if self._coarse is None:
+            k = len(self.T) // COARSE_TRIANGLES
+            self._coarse = self.tree if k < 2 else _core.TriangleTree(self.V, np.ascontiguousarray(self.T[::k]))
+        return self._coarse
 
     def patterns(self, seeds) -> np.ndarray:
         """(n, N) normal displacements of the copies with these seeds, each at the recorded RMSE."""
@@ -181,8 +194,9 @@ def _subsample(n: int, m: int) -> np.ndarray:
 
 
 def align(suspect: Mesh, orig: Original, coarse_points: int = 400, fine_points: int = 4000) -> dict:
-    """Similarity (4x4, suspect -> original frame) by trimmed ICP from 75 starts (below), the 6 best
-    refined, the best of those with scale and point-to-plane steps. Returns ``{"matrix", "rms",
+    """Similarity (4x4, suspect -> original frame) by trimmed ICP from 76 starts (below), the 6 best
+    refined (both on ``orig.coarse_tree``), the best of those with scale and point-to-plane steps on
+    every triangle. Returns ``{"matrix", "rms",
     "kept", "start"}``."""
     Ts = _tri(suspect)
     used = np.unique(Ts.ravel())
@@ -212,7 +226,7 @@ def align(suspect: Mesh, orig: Original, coarse_points: int = 400, fine_points: 
     Pc = np.ascontiguousarray(S[_subsample(len(S), coarse_points)])
     # rigid at the PCA scale from every start, then with scale, kept within [0.6, 1.6] x the PCA scale
     # (a suspect shrunk onto the surface would otherwise fit it perfectly)
-    A, rms, kept, _, start = _core.align_similarity(Pc, orig.tree, starts, 3, 0, 0.5, False, top=6, refine=12)
+    A, rms, kept, _, start = _core.align_similarity(Pc, orig.coarse_tree, starts, 3, 0, 0.5, False, top=6, refine=12)
     Pf = np.ascontiguousarray(S[_subsample(len(S), fine_points)])
     # the fine stage keeps the best-fitting half: a posed suspect's fit locks onto one rigid part
     A, rms, kept, _, _ = _core.align_similarity(Pf, orig.tree, [A], 1, 10, 0.5, True, 0.6 * s0, 1.6 * s0)
