@@ -357,7 +357,6 @@ def _secrets_out_of_the_files(ui, s, autosave_started, after):
         found = glob.glob(os.path.join(temp, "*autosave*.blend")) + glob.glob(os.path.join(bpy.app.tempdir,
                                                                                                "*autosave*.blend"))
         return [p for p in found if os.path.getmtime(p) > after]
-    autosave = []
     autosave = written()
     while time.monotonic() - t0 < 400 and not autosave:
         ui.redraw()

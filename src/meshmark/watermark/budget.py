@@ -21,11 +21,12 @@ fewer move; Laplacian only), then a weaker pattern. The first step whose trial c
 the automatic parameters (their blind mark is the most robust; a weaker one would not make the
 copies invisible). The gentlest step is tried right after the automatic one: if every trial copy there
 is beyond :data:`HOPELESS` times the budget, no step can fit, and the automatic parameters are kept
-without walking the ladder or remaking copies (``"remake": false``, ``"gentlest_share"``). The asset's setup records the outcome: ``setup['budget']`` = ``{"fits": every trial
-copy within the budget, "worst_share": the trial copies' largest share, "n_robust", "pattern_scale",
-"trials"}``. A larger n_robust makes the blind codeword less robust (it reads through less noise
-without the original); the informed pattern, weakened only as a last resort, carries the evidence
-against a leaker who tries.
+without walking the ladder or remaking copies (``"remake": false``, ``"gentlest_share"``). The
+asset's setup records the outcome: ``setup['budget']`` = ``{"fits": every trial copy within the budget,
+"worst_share": the trial copies' largest share, "n_robust", "pattern_scale", "trials"}``. A larger
+n_robust makes the blind codeword less robust (it reads through less noise without the original);
+the informed pattern, weakened only as a last resort, carries the evidence against a leaker who
+tries.
 """
 from __future__ import annotations
 

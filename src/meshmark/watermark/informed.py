@@ -196,8 +196,7 @@ def _subsample(n: int, m: int) -> np.ndarray:
 def align(suspect: Mesh, orig: Original, coarse_points: int = 400, fine_points: int = 4000) -> dict:
     """Similarity (4x4, suspect -> original frame) by trimmed ICP from 76 starts (below), the 6 best
     refined (both on ``orig.coarse_tree``), the best of those with scale and point-to-plane steps on
-    every triangle. Returns ``{"matrix", "rms",
-    "kept", "start"}``."""
+    every triangle. Returns ``{"matrix", "rms", "kept", "start"}``."""
     Ts = _tri(suspect)
     used = np.unique(Ts.ravel())
     if used.size < 3:
